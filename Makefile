@@ -1,0 +1,49 @@
+# Virtual respirator fit: top-level entry points.
+#   make case=medium_onesize   run the pipeline for one case (builds what is out of date)
+#   make test                  build everything and run all tests
+#   make cases-all             all 30 cases;  make help  for more
+# Both install the missing Debian packages first (scripts/install-deps.sh).
+
+BUILD ?= build
+JOBS ?= 2
+export BUILD
+
+.PHONY: help deps build test test-fast bench case cases-all clean
+.DEFAULT_GOAL := $(if $(case),case,help)
+
+help:
+	@echo "make case=<headform>_<respirator>   e.g. make case=medium_onesize (cases in data/cases/)"
+	@echo "   HEADFORM_SCAN=path RESPIRATOR_SCAN=path   swap in your own scans"
+	@echo "make test        build and run all tests (CTest)"
+	@echo "make test-fast   tests not labelled slow"
+	@echo "make bench       build and run the benchmarks"
+	@echo "make cases-all   run all 30 cases"
+
+deps:
+	@scripts/install-deps.sh
+
+$(BUILD)/CMakeCache.txt: CMakeLists.txt
+	@scripts/install-deps.sh
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+
+build: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 1500
+
+test-fast: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+
+bench: build
+	@for b in $(BUILD)/bin/bench_*; do echo "== $$b"; $$b || exit 1; done
+
+case: build
+	$(MAKE) --no-print-directory -f Makefile.cases case=$(case)
+
+cases-all: build
+	@for c in $(basename $(notdir $(wildcard data/cases/*.mk))); do \
+	  $(MAKE) --no-print-directory -f Makefile.cases case=$$c || exit 1; done
+
+clean:
+	rm -rf $(BUILD)

@@ -1,0 +1,7 @@
+# Case large_threesize-lm: headform 'large' with respirator 'threesize-lm'.
+# Scans default to the generated ones (data/generator); point a case at a real scan by
+# uncommenting a line below, or on the command line: make case=large_threesize-lm HEADFORM_SCAN=path.
+HEADFORM := large
+RESPIRATOR := threesize-lm
+# HEADFORM_SCAN := path/to/head_scan.ply
+# RESPIRATOR_SCAN := path/to/respirator_scan.ply

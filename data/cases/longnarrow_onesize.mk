@@ -1,0 +1,7 @@
+# Case longnarrow_onesize: headform 'longnarrow' with respirator 'onesize'.
+# Scans default to the generated ones (data/generator); point a case at a real scan by
+# uncommenting a line below, or on the command line: make case=longnarrow_onesize HEADFORM_SCAN=path.
+HEADFORM := longnarrow
+RESPIRATOR := onesize
+# HEADFORM_SCAN := path/to/head_scan.ply
+# RESPIRATOR_SCAN := path/to/respirator_scan.ply

@@ -1,0 +1,7 @@
+# Case longnarrow_twosize-s: headform 'longnarrow' with respirator 'twosize-s'.
+# Scans default to the generated ones (data/generator); point a case at a real scan by
+# uncommenting a line below, or on the command line: make case=longnarrow_twosize-s HEADFORM_SCAN=path.
+HEADFORM := longnarrow
+RESPIRATOR := twosize-s
+# HEADFORM_SCAN := path/to/head_scan.ply
+# RESPIRATOR_SCAN := path/to/respirator_scan.ply

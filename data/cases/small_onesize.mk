@@ -1,0 +1,7 @@
+# Case small_onesize: headform 'small' with respirator 'onesize'.
+# Scans default to the generated ones (data/generator); point a case at a real scan by
+# uncommenting a line below, or on the command line: make case=small_onesize HEADFORM_SCAN=path.
+HEADFORM := small
+RESPIRATOR := onesize
+# HEADFORM_SCAN := path/to/head_scan.ply
+# RESPIRATOR_SCAN := path/to/respirator_scan.ply

@@ -1,0 +1,7 @@
+# Case small_threesize-lm: headform 'small' with respirator 'threesize-lm'.
+# Scans default to the generated ones (data/generator); point a case at a real scan by
+# uncommenting a line below, or on the command line: make case=small_threesize-lm HEADFORM_SCAN=path.
+HEADFORM := small
+RESPIRATOR := threesize-lm
+# HEADFORM_SCAN := path/to/head_scan.ply
+# RESPIRATOR_SCAN := path/to/respirator_scan.ply

@@ -1,0 +1,24 @@
+#pragma once
+/// Atomic output: every stage writes its outputs through these functions, so a failed or
+/// interrupted stage never leaves a file that Make could mistake for a finished one.
+#include <functional>
+#include <string>
+
+namespace pipeline {
+
+/// Calls writer(tmp_path) with a temporary path in the same directory as `path`, then
+/// renames the temporary file to `path`. The parent directory is created if missing.
+///
+/// @param[in] path    final output path
+/// @param[in] writer  writes the complete file to the path it is given; may throw
+/// @throws Error(io) if the writer left no file or the rename failed; any exception of the
+///         writer is re-thrown after the temporary file is removed. `path` is untouched on failure.
+void write_atomic(const std::string& path, const std::function<void(const std::string& tmp_path)>& writer);
+
+/// Writes `text` to `path` atomically.
+void write_text_atomic(const std::string& path, const std::string& text);
+
+/// Reads a whole file into a string. @throws Error(bad_input) if missing or unreadable.
+std::string read_text(const std::string& path);
+
+}  // namespace pipeline

@@ -1,0 +1,161 @@
+#include "pipeline/cli.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "pipeline/error.h"
+
+namespace pipeline {
+
+namespace {
+
+std::string fmt_double(double v) {
+  std::ostringstream ss;
+  ss << v;
+  return ss.str();
+}
+
+double parse_double(const std::string& flag, const std::string& s) {
+  std::size_t pos = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &pos);
+  } catch (...) {
+    pos = 0;
+  }
+  if (pos == 0 || pos != s.size() || !std::isfinite(v))
+    throw Error(ErrorKind::usage, flag + ": expected a finite number, got '" + s + "'");
+  return v;
+}
+
+}  // namespace
+
+Cli::Cli(std::string program, std::string description)
+    : program_(std::move(program)), description_(std::move(description)) {}
+
+Cli& Cli::option(const std::string& s, const std::string& l, std::string* value,
+                 const std::string& help, bool is_required) {
+  Opt o{s, l, help};
+  o.is_required = is_required;
+  o.set = [value](const std::string& v) { *value = v; };
+  o.get = [value] { return *value; };
+  opts_.push_back(o);
+  return *this;
+}
+
+Cli& Cli::option(const std::string& s, const std::string& l, double* value, const std::string& help,
+                 double min, double max) {
+  Opt o{s, l, help};
+  o.set = [value, l, min, max](const std::string& v) {
+    const double d = parse_double(l, v);
+    if (d < min || d > max)
+      throw Error(ErrorKind::usage, l + ": " + v + " is out of range [" + fmt_double(min) + ", " +
+                                        fmt_double(max) + "]");
+    *value = d;
+  };
+  o.get = [value] { return fmt_double(*value); };
+  opts_.push_back(o);
+  return *this;
+}
+
+Cli& Cli::option(const std::string& s, const std::string& l, int* value, const std::string& help,
+                 int min, int max) {
+  Opt o{s, l, help};
+  o.set = [value, l, min, max](const std::string& v) {
+    const double d = parse_double(l, v);
+    if (d != std::floor(d)) throw Error(ErrorKind::usage, l + ": expected an integer, got '" + v + "'");
+    if (d < min || d > max)
+      throw Error(ErrorKind::usage, l + ": " + v + " is out of range [" + std::to_string(min) +
+                                        ", " + std::to_string(max) + "]");
+    *value = int(d);
+  };
+  o.get = [value] { return std::to_string(*value); };
+  opts_.push_back(o);
+  return *this;
+}
+
+Cli& Cli::flag(const std::string& s, const std::string& l, bool* value, const std::string& help) {
+  Opt o{s, l, help};
+  o.is_flag = true;
+  o.set = [value](const std::string&) { *value = true; };
+  o.get = [value] { return std::string(*value ? "true" : "false"); };
+  opts_.push_back(o);
+  return *this;
+}
+
+Cli::Opt* Cli::find(const std::string& flag) {
+  for (auto& o : opts_)
+    if (flag == o.short_flag || flag == o.long_flag) return &o;
+  return nullptr;
+}
+
+bool Cli::parse(int argc, char** argv) {
+  for (auto& o : opts_) o.seen = false;
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i], value;
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(usage().c_str(), stdout);
+      return false;
+    }
+    const auto eq = arg.find('=');
+    bool inline_value = false;
+    if (arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+      value = arg.substr(eq + 1);
+      arg = arg.substr(0, eq);
+      inline_value = true;
+    }
+    Opt* o = find(arg);
+    if (!o) throw Error(ErrorKind::usage, "unknown option '" + arg + "' (see --help)");
+    if (!o->is_flag && !inline_value) {
+      if (i + 1 >= argc) throw Error(ErrorKind::usage, arg + ": missing value");
+      value = argv[++i];
+    }
+    o->set(value);
+    o->seen = true;
+  }
+  for (const auto& o : opts_)
+    if (o.is_required && !o.seen)
+      throw Error(ErrorKind::usage, "missing required option " + o.long_flag + " (see --help)");
+  return true;
+}
+
+std::string Cli::usage() const {
+  std::ostringstream ss;
+  ss << "Usage: " << program_ << " [options]\n\n" << description_ << "\n\nOptions:\n";
+  for (const auto& o : opts_) {
+    std::string flags = o.short_flag.empty() ? "    " : o.short_flag + ", ";
+    flags += o.long_flag + (o.is_flag ? "" : " VALUE");
+    ss << "  " << flags;
+    ss << std::string(flags.size() < 26 ? 26 - flags.size() : 1, ' ') << o.help;
+    if (o.is_required) ss << " (required)";
+    else if (!o.is_flag && !o.get().empty()) ss << " [default: " << o.get() << "]";
+    ss << "\n";
+  }
+  ss << "  -h, --help                show this help\n";
+  return ss.str();
+}
+
+std::string Cli::resolved() const {
+  std::string s;
+  for (const auto& o : opts_) s += (s.empty() ? "" : " ") + o.long_flag.substr(2) + "=" + o.get();
+  return s;
+}
+
+int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) {
+  const std::string& prog = cli.program();
+  try {
+    if (!cli.parse(argc, argv)) return 0;
+    std::fprintf(stderr, "%s: options: %s\n", prog.c_str(), cli.resolved().c_str());
+    return body();
+  } catch (const Error& e) {
+    std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.what());
+    if (e.kind == ErrorKind::usage) std::fprintf(stderr, "%s: run '%s --help' for usage\n", prog.c_str(), prog.c_str());
+    return int(e.kind);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error: %s\n", prog.c_str(), e.what());
+    return int(ErrorKind::algorithm);
+  }
+}
+
+}  // namespace pipeline

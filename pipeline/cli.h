@@ -1,0 +1,63 @@
+#pragma once
+/// Command-line options and the error-to-exit-code mapping shared by every stage program.
+///
+/// Usage (in a stage's main):
+///   std::string in, out; double edge_mm = 2.0;
+///   pipeline::Cli cli("repair", "Repairs a scanned surface ...");
+///   cli.option("-i", "--in", &in, "input mesh (PLY/STL/OBJ/OFF)", pipeline::required);
+///   cli.option("-e", "--edge", &edge_mm, "target edge length [mm]", 0.05, 50.0);
+///   return pipeline::run_main(cli, argc, argv, [&] { ...; return 0; });
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace pipeline {
+
+inline constexpr bool required = true;
+
+class Cli {
+ public:
+  Cli(std::string program, std::string description);
+
+  /// A string option; `is_required` makes it mandatory.
+  Cli& option(const std::string& short_flag, const std::string& long_flag, std::string* value,
+              const std::string& help, bool is_required = false);
+  /// A number option with an inclusive valid range; NaN and out-of-range values are usage errors.
+  Cli& option(const std::string& short_flag, const std::string& long_flag, double* value,
+              const std::string& help, double min = -std::numeric_limits<double>::max(),
+              double max = std::numeric_limits<double>::max());
+  Cli& option(const std::string& short_flag, const std::string& long_flag, int* value,
+              const std::string& help, int min = std::numeric_limits<int>::min(),
+              int max = std::numeric_limits<int>::max());
+  /// A boolean switch (no argument).
+  Cli& flag(const std::string& short_flag, const std::string& long_flag, bool* value,
+            const std::string& help);
+
+  /// Parses argv. Returns false when --help was printed (the program should exit 0).
+  /// @throws Error(usage) on an unknown flag, a missing or malformed value, or a missing
+  ///         required option.
+  bool parse(int argc, char** argv);
+  std::string usage() const;
+  /// "name=value" of every option, for the log line after parsing.
+  std::string resolved() const;
+  const std::string& program() const { return program_; }
+
+ private:
+  struct Opt {
+    std::string short_flag, long_flag, help;
+    bool is_flag = false, is_required = false, seen = false;
+    std::function<void(const std::string&)> set;
+    std::function<std::string()> get;
+  };
+  Opt* find(const std::string& flag);
+  std::string program_, description_;
+  std::vector<Opt> opts_;
+};
+
+/// Parses the command line, runs `body` and maps exceptions to exit codes:
+/// usage 1, bad input 2, algorithm 3, I/O 4 (pipeline::Error kinds); other exceptions 3.
+/// Each error is one line on stderr: "program: message".
+int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body);
+
+}  // namespace pipeline

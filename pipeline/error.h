@@ -1,0 +1,34 @@
+#pragma once
+/// Errors of the pipeline. Library code throws pipeline::Error; only a stage's main()
+/// maps the kind to an exit code (see run_main in cli.h).
+#include <stdexcept>
+#include <string>
+
+namespace pipeline {
+
+/// What went wrong, and so which exit code the program returns.
+enum class ErrorKind {
+  usage = 1,      ///< bad command line
+  bad_input = 2,  ///< the user's data is unusable (missing, empty, truncated, NaN, ...)
+  algorithm = 3,  ///< the data was read but the algorithm could not finish
+  io = 4          ///< writing an output failed
+};
+
+/// An error with a kind. The message names the file or entity first:
+/// "p03/surface.ply: face 1841 degenerate: area 0 mm², expected > 1e-6".
+struct Error : std::runtime_error {
+  ErrorKind kind;
+  Error(ErrorKind k, const std::string& message) : std::runtime_error(message), kind(k) {}
+};
+
+inline Error bad_input(const std::string& what, const std::string& problem) {
+  return Error(ErrorKind::bad_input, what + ": " + problem);
+}
+inline Error algorithm_failed(const std::string& what, const std::string& problem) {
+  return Error(ErrorKind::algorithm, what + ": " + problem);
+}
+inline Error io_failed(const std::string& what, const std::string& problem) {
+  return Error(ErrorKind::io, what + ": " + problem);
+}
+
+}  // namespace pipeline

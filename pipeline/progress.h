@@ -1,0 +1,34 @@
+#pragma once
+/// Progress on stderr for long work: "stage: step  done/total (pct) ETA 12 s".
+/// Lines are rate-limited (at most one every `min_interval_s`) so logs stay short.
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+namespace pipeline {
+
+class Progress {
+ public:
+  /// @param stage  the program or stage name printed first
+  /// @param total  number of work units (0 if unknown: no ETA is printed)
+  Progress(std::string stage, std::size_t total, double min_interval_s = 2.0);
+  /// Reports that `done` units are finished, while doing `step`.
+  void update(std::size_t done, const std::string& step = "");
+  /// Starts a new named step without a count (printed at once).
+  void step(const std::string& step);
+  /// Prints the final line with the elapsed time.
+  void finish(const std::string& summary = "");
+  /// Seconds since construction.
+  double elapsed_s() const;
+
+ private:
+  std::string stage_;
+  std::size_t total_;
+  double min_interval_s_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+/// Prints "stage: message" on stderr (the one logging function of the pipeline).
+void log(const std::string& stage, const std::string& message);
+
+}  // namespace pipeline

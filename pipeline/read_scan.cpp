@@ -1,0 +1,249 @@
+#include "pipeline/read_scan.h"
+
+#include <CGAL/IO/PLY.h>
+#include <CGAL/IO/OFF.h>
+#include <CGAL/IO/read_points.h>
+#include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/property_map.h>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "pipeline/error.h"
+
+namespace fs = std::filesystem;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+namespace pipeline {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+void check_file(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw bad_input(path, "no such file");
+  if (fs::is_directory(path, ec)) throw bad_input(path, "is a directory, expected a file");
+  if (fs::file_size(path, ec) == 0) throw bad_input(path, "file is empty");
+}
+
+void check_finite(const std::vector<Point>& pts, const std::string& path) {
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (!std::isfinite(pts[i].x()) || !std::isfinite(pts[i].y()) || !std::isfinite(pts[i].z()))
+      throw bad_input(path, "vertex " + std::to_string(i) + " has a non-finite (NaN or infinite) coordinate");
+}
+
+std::string first_bytes(const std::string& path, std::size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  std::string s(n, '\0');
+  in.read(&s[0], std::streamsize(n));
+  s.resize(std::size_t(in.gcount()));
+  return s;
+}
+
+// Plain "x y z [nx ny nz]" lines. CGAL's XYZ reader silently skips malformed lines; a scan
+// with a garbled line is more likely a wrong file, so we parse it here and name the line.
+PointCloud read_xyz(const std::string& path) {
+  std::ifstream in(path);
+  PointCloud c;
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto start = line.find_first_not_of(" \t\r");
+    if (start == std::string::npos || line[start] == '#') continue;
+    std::istringstream ss(line);
+    std::vector<double> v;
+    std::string tok;
+    while (ss >> tok) {
+      try {
+        std::size_t pos = 0;
+        v.push_back(std::stod(tok, &pos));
+        if (pos != tok.size()) throw std::invalid_argument(tok);
+      } catch (...) {
+        throw bad_input(path, "line " + std::to_string(line_no) + ": '" + tok + "' is not a number");
+      }
+    }
+    if (v.size() != 3 && v.size() != 6)
+      throw bad_input(path, "line " + std::to_string(line_no) + ": expected 3 or 6 numbers, got " +
+                                std::to_string(v.size()));
+    c.points.emplace_back(v[0], v[1], v[2]);
+    if (v.size() == 6) c.normals.emplace_back(v[3], v[4], v[5]);
+  }
+  if (!c.normals.empty() && c.normals.size() != c.points.size())
+    throw bad_input(path, "normals given on some lines only");
+  return c;
+}
+
+void read_ply(const std::string& path, Scan& scan) {
+  if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
+  std::ifstream in(path, std::ios::binary);
+  std::vector<Point> pts;
+  std::vector<std::vector<std::size_t>> polys;
+  if (!CGAL::IO::read_PLY(in, pts, polys))
+    throw bad_input(path, "unreadable or truncated PLY");
+  if (!polys.empty()) {
+    scan.is_mesh = true;
+    scan.soup.points = std::move(pts);
+    scan.soup.polygons = std::move(polys);
+    return;
+  }
+  // A point set: read again with normals (absent normals come back as zero vectors).
+  using PN = std::pair<Point, Vector>;
+  std::vector<PN> pn;
+  std::ifstream in2(path, std::ios::binary);
+  if (!CGAL::IO::read_PLY(in2, std::back_inserter(pn),
+                          CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
+                              .normal_map(CGAL::Second_of_pair_property_map<PN>())))
+    throw bad_input(path, "unreadable or truncated PLY point set");
+  bool has_normals = false;
+  for (const auto& p : pn) has_normals |= p.second.squared_length() > 0;
+  for (const auto& p : pn) {
+    scan.cloud.points.push_back(p.first);
+    if (has_normals) scan.cloud.normals.push_back(p.second);
+  }
+}
+
+void read_off(const std::string& path, Scan& scan) {
+  const std::string head = first_bytes(path, 4);
+  if (head.find("OFF") == std::string::npos) throw bad_input(path, "not an OFF file (no 'OFF' header)");
+  std::vector<Point> pts;
+  std::vector<std::vector<std::size_t>> polys;
+  std::ifstream in(path);
+  if (!CGAL::IO::read_OFF(in, pts, polys)) throw bad_input(path, "unreadable or truncated OFF");
+  if (polys.empty()) {
+    scan.cloud.points = std::move(pts);
+  } else {
+    scan.is_mesh = true;
+    scan.soup.points = std::move(pts);
+    scan.soup.polygons = std::move(polys);
+  }
+}
+
+// OBJ files with vertices only are point clouds, which assimp does not import.
+bool obj_has_faces(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("f ", 0) == 0) return true;
+  return false;
+}
+
+PointCloud read_obj_points(const std::string& path) {
+  std::ifstream in(path);
+  PointCloud c;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream ss(line.substr(2));
+    double x, y, z;
+    if (!(ss >> x >> y >> z)) throw bad_input(path, "malformed vertex line '" + line + "'");
+    c.points.emplace_back(x, y, z);
+  }
+  return c;
+}
+
+void read_with_assimp(const std::string& path, Scan& scan) {
+  Assimp::Importer importer;
+  // Keep the triangles as scanned: only join the duplicated corners STL stores per facet.
+  const aiScene* sc = importer.ReadFile(path, aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
+  if (!sc || !sc->mNumMeshes) {
+    std::string why = importer.GetErrorString();
+    throw bad_input(path, "not a readable mesh" + (why.empty() ? std::string() : ": " + why));
+  }
+  scan.is_mesh = true;
+  for (unsigned m = 0; m < sc->mNumMeshes; ++m) {
+    const aiMesh* mesh = sc->mMeshes[m];
+    const std::size_t base = scan.soup.points.size();
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v)
+      scan.soup.points.emplace_back(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z);
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices < 3) continue;  // points and lines are not surface
+      std::vector<std::size_t> poly;
+      for (unsigned k = 0; k < face.mNumIndices; ++k) poly.push_back(base + face.mIndices[k]);
+      scan.soup.polygons.push_back(std::move(poly));
+    }
+  }
+  if (scan.soup.polygons.empty()) throw bad_input(path, "mesh has no faces");
+}
+
+void scale_points(std::vector<Point>& pts, double s) {
+  if (s == 1.0) return;
+  for (auto& p : pts) p = Point(p.x() * s, p.y() * s, p.z() * s);
+}
+
+}  // namespace
+
+double largest_extent(const std::vector<Point>& points) {
+  if (points.empty()) return 0;
+  const auto bb = CGAL::bbox_3(points.begin(), points.end());
+  return std::max({bb.xmax() - bb.xmin(), bb.ymax() - bb.ymin(), bb.zmax() - bb.zmin()});
+}
+
+Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
+  check_file(path);
+  const std::string ext = lower_extension(path);
+  Scan scan;
+  if (ext == ".xyz" || ext == ".pts" || ext == ".txt") scan.cloud = read_xyz(path);
+  else if (ext == ".ply") read_ply(path, scan);
+  else if (ext == ".off") read_off(path, scan);
+  else if (ext == ".obj" && !obj_has_faces(path)) scan.cloud = read_obj_points(path);
+  else if (ext == ".stl" || ext == ".obj") read_with_assimp(path, scan);
+  else throw bad_input(path, "unknown scan format '" + ext + "', expected .ply .stl .obj .off .xyz or .pts");
+
+  auto& pts = scan.is_mesh ? scan.soup.points : scan.cloud.points;
+  if (pts.empty()) throw bad_input(path, "no points in file");
+  check_finite(pts, path);
+  for (const auto& poly : scan.soup.polygons)
+    for (std::size_t i : poly)
+      if (i >= pts.size()) throw bad_input(path, "face refers to vertex " + std::to_string(i) + " of " + std::to_string(pts.size()));
+
+  scan.unit = opt.unit == Unit::automatic ? detect_unit(largest_extent(pts), opt.expected_size_mm, path) : opt.unit;
+  scale_points(pts, mm_per_unit(scan.unit));
+  return scan;
+}
+
+SurfaceMesh read_surface_mesh(const std::string& path) {
+  check_file(path);
+  SurfaceMesh mesh;
+  const std::string ext = lower_extension(path);
+  bool ok = false;
+  if (ext == ".ply") {
+    if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
+    std::ifstream in(path, std::ios::binary);
+    std::string comments;
+    ok = CGAL::IO::read_PLY(in, mesh, comments);
+  } else {
+    Scan scan = read_scan(path, ScanReadOptions{Unit::mm});
+    if (!scan.is_mesh) throw bad_input(path, "is a point set, expected a mesh");
+    if (!PMP::is_polygon_soup_a_polygon_mesh(scan.soup.polygons))
+      throw bad_input(path, "not a 2-manifold polygon mesh (run repair first)");
+    PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
+    ok = true;
+  }
+  if (!ok) throw bad_input(path, "unreadable, truncated or non-manifold mesh (run repair first)");
+  if (mesh.number_of_faces() == 0) throw bad_input(path, "mesh has no faces");
+  for (auto v : mesh.vertices()) {
+    const Point& p = mesh.point(v);
+    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
+      throw bad_input(path, "vertex " + std::to_string(std::size_t(v)) + " has a non-finite coordinate");
+  }
+  return mesh;
+}
+
+}  // namespace pipeline

@@ -1,0 +1,42 @@
+#pragma once
+/// Reading scans and meshes. Scanner formats: PLY (ascii/binary), STL (ascii/binary), OBJ, OFF
+/// (meshes or point sets) and XYZ/PTS (points, optionally with normals). PLY, OFF and XYZ are
+/// read with CGAL; STL and OBJ with assimp.
+#include <string>
+
+#include "pipeline/surface_mesh.h"
+#include "pipeline/units.h"
+
+namespace pipeline {
+
+struct ScanReadOptions {
+  Unit unit = Unit::automatic;     ///< unit of the file; automatic guesses from the size
+  double expected_size_mm = 250.0; ///< real largest extent of the object (head ≈ 250, respirator ≈ 130)
+};
+
+/// A scan as read: either a polygon soup (is_mesh) or a point cloud, already scaled to mm.
+struct Scan {
+  bool is_mesh = false;
+  PolygonSoup soup;    ///< filled when is_mesh
+  PointCloud cloud;    ///< filled otherwise
+  Unit unit = Unit::mm;  ///< unit the file was in (detected or forced)
+};
+
+/// Reads a scan file of any supported format and scales it to mm.
+///
+/// @param[in] path  file to read; the format is chosen by extension and checked by content
+/// @param[in] opt   unit handling
+/// @return the scan in mm
+/// @throws Error(bad_input) naming `path` if the file is missing, empty, truncated, not of its
+///         format, has non-finite coordinates, no points, or a size no unit explains.
+Scan read_scan(const std::string& path, const ScanReadOptions& opt = {});
+
+/// Reads a polygon mesh that a previous stage wrote (mm, no unit guessing) into a Surface_mesh,
+/// keeping PLY vertex/face properties (e.g. "f:part").
+/// @throws Error(bad_input) if unreadable, empty, non-finite or not a 2-manifold polygon mesh.
+SurfaceMesh read_surface_mesh(const std::string& path);
+
+/// Largest extent of the axis-aligned bounding box of `points` [same unit as points].
+double largest_extent(const std::vector<Point>& points);
+
+}  // namespace pipeline

@@ -1,0 +1,54 @@
+#include "pipeline/units.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "pipeline/error.h"
+
+namespace pipeline {
+
+Unit parse_unit(const std::string& n) {
+  if (n == "auto") return Unit::automatic;
+  if (n == "mm") return Unit::mm;
+  if (n == "cm") return Unit::cm;
+  if (n == "m") return Unit::m;
+  if (n == "in") return Unit::inch;
+  throw Error(ErrorKind::usage, "--unit: expected auto, mm, cm, m or in, got '" + n + "'");
+}
+
+std::string unit_name(Unit u) {
+  switch (u) {
+    case Unit::automatic: return "auto";
+    case Unit::mm: return "mm";
+    case Unit::cm: return "cm";
+    case Unit::m: return "m";
+    case Unit::inch: return "in";
+  }
+  return "?";
+}
+
+double mm_per_unit(Unit u) {
+  switch (u) {
+    case Unit::mm: return 1.0;
+    case Unit::cm: return 10.0;
+    case Unit::m: return 1000.0;
+    case Unit::inch: return 25.4;
+    case Unit::automatic: break;
+  }
+  throw Error(ErrorKind::usage, "mm_per_unit: 'auto' is not a unit");
+}
+
+Unit detect_unit(double extent, double expected_mm, const std::string& what) {
+  if (!(extent > 0) || !std::isfinite(extent))
+    throw bad_input(what, "bounding box has no extent (" + std::to_string(extent) + ")");
+  for (Unit u : {Unit::mm, Unit::cm, Unit::m}) {
+    const double size_mm = extent * mm_per_unit(u);
+    if (size_mm > expected_mm / 4 && size_mm < expected_mm * 4) return u;
+  }
+  std::ostringstream ss;
+  ss << "cannot tell the length unit: largest extent " << extent << " is neither mm, cm nor m for an object of about "
+     << expected_mm << " mm (force one with --unit)";
+  throw bad_input(what, ss.str());
+}
+
+}  // namespace pipeline

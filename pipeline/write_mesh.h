@@ -1,0 +1,16 @@
+#pragma once
+/// Writing meshes and point clouds, atomically (temporary file + rename). The format follows the
+/// extension: .ply (binary, keeps vertex/face properties), .off, .obj, .stl; points: .ply, .xyz.
+#include <string>
+
+#include "pipeline/surface_mesh.h"
+
+namespace pipeline {
+
+/// @throws Error(io) when writing fails; `path` is then untouched.
+void write_surface_mesh(const std::string& path, const SurfaceMesh& mesh);
+
+/// Writes points (and normals when present). @throws Error(io) when writing fails.
+void write_point_cloud(const std::string& path, const PointCloud& cloud);
+
+}  // namespace pipeline

@@ -1,0 +1,68 @@
+#include <gtest/gtest.h>
+
+#include "pipeline/cli.h"
+#include "pipeline/error.h"
+
+namespace {
+
+struct Args {
+  std::vector<std::string> s;
+  std::vector<char*> v;
+  explicit Args(std::vector<std::string> a) : s(std::move(a)) {
+    for (auto& x : s) v.push_back(x.data());
+  }
+  int argc() { return int(v.size()); }
+  char** argv() { return v.data(); }
+};
+
+}  // namespace
+
+TEST(cli, parses_long_short_and_inline_values) {
+  std::string in;
+  double edge = 2.0;
+  int n = 3;
+  bool verbose = false;
+  pipeline::Cli cli("prog", "test");
+  cli.option("-i", "--in", &in, "input", pipeline::required)
+      .option("-e", "--edge", &edge, "edge [mm]", 0.1, 10)
+      .option("-n", "--count", &n, "count", 1, 9)
+      .flag("-v", "--verbose", &verbose, "talk");
+  Args a({"prog", "-i", "x.ply", "--edge=1.5", "-n", "7", "--verbose"});
+  ASSERT_TRUE(cli.parse(a.argc(), a.argv()));
+  EXPECT_EQ(in, "x.ply");
+  EXPECT_DOUBLE_EQ(edge, 1.5);
+  EXPECT_EQ(n, 7);
+  EXPECT_TRUE(verbose);
+}
+
+TEST(cli, rejects_absurd_and_malformed_values) {
+  std::string in;
+  double edge = 2.0;
+  pipeline::Cli cli("prog", "test");
+  cli.option("-i", "--in", &in, "input", pipeline::required).option("-e", "--edge", &edge, "edge", 0.1, 10);
+  for (auto bad : std::vector<std::vector<std::string>>{{"prog", "-i", "a", "-e", "nan"},
+                                                         {"prog", "-i", "a", "-e", "100"},
+                                                         {"prog", "-i", "a", "-e", "2mm"},
+                                                         {"prog", "-e", "2"},
+                                                         {"prog", "-i", "a", "--bogus"},
+                                                         {"prog", "-i"}}) {
+    Args a(bad);
+    try {
+      cli.parse(a.argc(), a.argv());
+      ADD_FAILURE() << "accepted " << bad.back();
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::usage);
+    }
+  }
+}
+
+TEST(cli, run_main_maps_error_kinds_to_exit_codes) {
+  pipeline::Cli cli("prog", "test");
+  Args a({"prog"});
+  EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), [] { return 0; }), 0);
+  EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::bad_input("f", "x"); }), 2);
+  EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::algorithm_failed("f", "x"); }), 3);
+  EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::io_failed("f", "x"); }), 4);
+  Args help({"prog", "--help"});
+  EXPECT_EQ(pipeline::run_main(cli, help.argc(), help.argv(), [] { return 7; }), 0);
+}

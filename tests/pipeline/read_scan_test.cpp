@@ -1,0 +1,80 @@
+// read_scan on the real NIOSH headform and on small files with known defects.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "pipeline/error.h"
+#include "pipeline/read_scan.h"
+#include "pipeline/write_mesh.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string tmp_file(const std::string& name, const std::string& content) {
+  const fs::path p = fs::temp_directory_path() / "rf_read_scan" / name;
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << content;
+  return p.string();
+}
+
+pipeline::ErrorKind error_kind_of(const std::string& path) {
+  try {
+    pipeline::read_scan(path);
+  } catch (const pipeline::Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << "message names the file: " << e.what();
+    return e.kind;
+  }
+  return pipeline::ErrorKind::usage;  // no error: the caller's expectation fails
+}
+
+}  // namespace
+
+TEST(read_scan, reads_niosh_medium_stl_in_mm) {
+  const std::string path = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
+  const auto scan = pipeline::read_scan(path);
+  ASSERT_TRUE(scan.is_mesh);
+  EXPECT_EQ(scan.unit, pipeline::Unit::mm);
+  EXPECT_EQ(scan.soup.polygons.size(), 20146u);
+  EXPECT_NEAR(pipeline::largest_extent(scan.soup.points), 285.7, 0.5);
+}
+
+TEST(read_scan, scales_a_head_written_in_metres) {
+  const std::string path = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
+  auto scan = pipeline::read_scan(path);
+  pipeline::PointCloud c;
+  for (const auto& p : scan.soup.points) c.points.emplace_back(p.x() / 1000, p.y() / 1000, p.z() / 1000);
+  const std::string m = (fs::temp_directory_path() / "rf_read_scan" / "head_m.xyz").string();
+  pipeline::write_point_cloud(m, c);
+  const auto back = pipeline::read_scan(m);
+  EXPECT_EQ(back.unit, pipeline::Unit::m);
+  EXPECT_NEAR(pipeline::largest_extent(back.cloud.points), 285.7, 0.5);
+}
+
+TEST(read_scan, bad_files_give_bad_input_naming_the_file) {
+  using pipeline::ErrorKind;
+  EXPECT_EQ(error_kind_of("/nonexistent/head.ply"), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(tmp_file("empty.ply", "")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(tmp_file("text.stl", "this is not a mesh\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(tmp_file("text.ply", "hello world\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(tmp_file("nan.xyz", "0 0 0\n100 0 0\nnan 1 2\n0 200 0\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(tmp_file("garbled.xyz", "0 0 0\n100 x 0\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(tmp_file("huge.xyz", "0 0 0\n9e6 0 0\n0 9e6 0\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(tmp_file("scan.doc", "0 0 0\n")), ErrorKind::bad_input);
+}
+
+TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
+  const std::string stl = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
+  std::ifstream in(stl, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(error_kind_of(tmp_file("cut.stl", bytes.substr(0, bytes.size() / 2))), pipeline::ErrorKind::bad_input);
+
+  pipeline::PointCloud c;
+  for (int i = 0; i < 1000; ++i) c.points.emplace_back(i * 0.2, (i % 10) * 20.0, (i % 7) * 30.0);
+  const std::string ply = (fs::temp_directory_path() / "rf_read_scan" / "full.ply").string();
+  pipeline::write_point_cloud(ply, c);
+  std::ifstream pin(ply, std::ios::binary);
+  std::string pbytes((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(error_kind_of(tmp_file("cut.ply", pbytes.substr(0, pbytes.size() / 2))), pipeline::ErrorKind::bad_input);
+}
