@@ -1,0 +1,88 @@
+#include "data/generator/generate_scan.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+#include "pipeline/read_scan.h"
+
+namespace generator {
+
+namespace {
+
+pipeline::Error usage(const std::string& msg) { return pipeline::Error(pipeline::ErrorKind::usage, msg); }
+
+}  // namespace
+
+GeneratedScan generate_scan(const GenerateRequest& rq) {
+  const bool from_mesh = !rq.mesh_path.empty();
+  if (from_mesh == !rq.kind.empty())
+    throw usage("give either --from-mesh PATH or --kind head|respirator (with --id and --params)");
+  if (!from_mesh)
+    throw usage("--kind: generated models are not implemented yet; use --from-mesh");
+  Triangles tri;
+  std::vector<Hole> model_holes;
+  const pipeline::Scan scan = pipeline::read_scan(rq.mesh_path);
+  if (!scan.is_mesh) throw pipeline::bad_input(rq.mesh_path, "is a point cloud, expected a mesh to scan");
+  tri = triangles_of(scan.soup);
+
+  ScanOptions opt;
+  const double area = surface_area(tri);
+  opt.points = rq.points > 0 ? std::size_t(rq.points)
+                             : std::size_t(std::llround(area / (rq.spacing_mm * rq.spacing_mm)));
+  opt.noise_mm = rq.noise_mm;
+  opt.noise_direction = rq.noise_direction;
+  opt.outliers.fraction = rq.outlier_fraction;
+  opt.random_holes = rq.random_holes >= 0 ? rq.random_holes : (from_mesh ? 0 : 2);
+  opt.hole_diameter_min_mm = rq.hole_diameter_min_mm;
+  opt.hole_diameter_max_mm = rq.hole_diameter_max_mm;
+  if (!rq.no_model_holes) opt.holes = model_holes;
+
+  GeneratedScan out;
+  Rng rng(rq.seed);
+  out.cloud = scan_surface(tri, opt, rng, &out.holes);
+  if (rq.want_clean_mesh) out.clean_mesh = surface_mesh_of(tri);
+  return out;
+}
+
+void parse_hole_diameters(const std::string& text, double* min_mm, double* max_mm) {
+  const auto colon = text.find(':');
+  const std::string a = text.substr(0, colon);
+  const std::string b = colon == std::string::npos ? a : text.substr(colon + 1);
+  auto num = [&](const std::string& s) {
+    std::size_t pos = 0;
+    double v = NAN;
+    try {
+      v = std::stod(s, &pos);
+    } catch (...) {
+      pos = 0;
+    }
+    if (pos == 0 || pos != s.size() || !std::isfinite(v) || v <= 0)
+      throw usage("--hole-diameter-mm: expected MIN:MAX in mm (positive numbers), got '" + text + "'");
+    return v;
+  };
+  *min_mm = num(a);
+  *max_mm = num(b);
+  if (*min_mm > *max_mm)
+    throw usage("--hole-diameter-mm: MIN > MAX in '" + text + "'");
+}
+
+NoiseDirection parse_noise_direction(const std::string& text) {
+  if (text == "normal") return NoiseDirection::normal;
+  if (text == "isotropic") return NoiseDirection::isotropic;
+  throw usage("--noise-direction: expected 'normal' or 'isotropic', got '" + text + "'");
+}
+
+void write_holes_json(const std::string& path, const std::vector<Hole>& holes) {
+  nlohmann::json j;
+  j["frame"] = "mm";
+  j["holes"] = nlohmann::json::array();
+  for (const Hole& h : holes)
+    j["holes"].push_back({{"centre", {h.centre.x(), h.centre.y(), h.centre.z()}},
+                          {"normal", {h.normal.x(), h.normal.y(), h.normal.z()}},
+                          {"radius_mm", h.radius_mm}});
+  pipeline::write_text_atomic(path, j.dump(2) + "\n");
+}
+
+}  // namespace generator
