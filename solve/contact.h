@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "solve/internal/contact_geometry.h"
+
 namespace solve {
 
 /// One contact pair as given in the deck. Node ids index the model's node arrays.
@@ -18,6 +20,11 @@ struct ContactSpec {
   double damping_ratio = 0.0;                  ///< ξ of the viscous contact damping 2·m·ω·v, ω = √(k/m); range [0, 1]
   double friction = 0.0;                       ///< Coulomb coefficient μ ≥ 0 (0: frictionless)
   bool two_sided = false;                      ///< thin shells: slaves are pushed out on either side
+  /// Optional slave surface facets (node ids; corners outside slave_nodes are ignored). When
+  /// given, pressure() divides the gathered normal force by the slave area gathered with the
+  /// same weights instead of the master tributary area: exact for a uniform pressure on
+  /// non-matching meshes (no aliasing when the slave spacing is not a multiple of the master's).
+  std::vector<std::array<int, 3>> slave_tris;
 };
 
 /// State and outputs of one contact pair.
@@ -36,7 +43,9 @@ class ContactPair {
   void add_forces(const double* x, const double* v, const double* mass, double dt, double* f);
 
   /// Normal contact pressure per node after the last add_forces, [MPa]: normal contact force
-  /// gathered on the master nodes divided by their tributary area; 0 away from contact. Size n_nodes.
+  /// gathered on the master nodes divided by their tributary area (1/3 of the adjacent facets;
+  /// with spec.slave_tris: by the slave area gathered the same way); 0 away from contact.
+  /// Size n_nodes, nonzero on master nodes only.
   const std::vector<double>& pressure() const { return pressure_; }
   /// Tangential (shear) contact traction per node, [MPa], like pressure(). Size n_nodes.
   const std::vector<double>& shear() const { return shear_; }
@@ -52,7 +61,22 @@ class ContactPair {
   std::vector<double> pressure_, shear_;
   std::array<double, 3> resultant_{0, 0, 0};
   double max_penetration_ = 0;
-  // The implementation adds search structures and friction state here.
+  // Implementation state (contact.cpp). Master topology in local master-node indices:
+  std::vector<int> master_nodes_;                ///< distinct master node ids
+  std::vector<std::array<int, 3>> tri_local_;    ///< master_tris as indices into master_nodes_
+  std::vector<std::array<int, 3>> tri_edges_;    ///< edge ids of each triangle (edge k: corners k, k+1)
+  std::vector<std::array<int, 2>> edge_tris_;    ///< the triangles of each edge (-1: boundary edge)
+  std::vector<int> node_tri_start_, node_tris_;  ///< triangles around each master node (CSR)
+  std::vector<char> node_on_boundary_;           ///< master node on a boundary edge
+  std::vector<std::array<int, 3>> slave_tri_local_;  ///< slave_tris as indices into slave_nodes (-1: none)
+  double edge_length_ = 0;                       ///< mean master edge length at the first call [mm]
+  double depth_ = 0;                             ///< deepest penetration searched for [mm]
+  double margin_ = 0;                            ///< grid reused until a master node moves this far [mm]
+  internal::BoxGrid grid_;                       ///< bucket sort of the inflated master triangles
+  std::vector<double> x_built_;                  ///< master node positions at the last grid build
+  // Per-slave history: side of a two-sided master (+1/-1, 0 unknown), elastic-slip friction force [N].
+  std::vector<signed char> side_;
+  std::vector<std::array<double, 3>> stick_force_;
 };
 
 }  // namespace solve
