@@ -1,0 +1,271 @@
+// Node columns of the layered model: directions, the common depth partition, depth caps and the
+// detect-and-fix loop. Written by hand because no library offsets a labelled open surface into
+// conforming prism layers with per-part stacks (CGAL/gmsh offer offsets of closed volumes only).
+#include "layering/internal/layers_columns.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "layering/internal/layers_geometry.h"
+#include "pipeline/error.h"
+
+namespace layering::internal {
+namespace {
+
+Eigen::Vector3d tri_normal(const std::vector<Eigen::Vector3d>& x, const Tri& t) {  // area-weighted (×2)
+  return (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+}
+
+// Planar quality of a skin triangle: 2/√3 × min sin(angle); the best a wedge on it can score.
+double triangle_quality(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
+  double q = 1e9;
+  for (int v = 0; v < 3; ++v) {
+    const Eigen::Vector3d a = x[t[(v + 1) % 3]] - x[t[v]], b = x[t[(v + 2) % 3]] - x[t[v]];
+    q = std::min(q, a.cross(b).norm() / (a.norm() * b.norm() + 1e-300));
+  }
+  return q * 2.0 / std::sqrt(3.0);
+}
+
+// Limits the jump of the depth scale between neighbours so a thinned spot tapers off smoothly.
+void limit_gradient(const std::vector<std::vector<int>>& nbr, const std::vector<int>& skin, std::vector<double>& s) {
+  for (int pass = 0; pass < 8; ++pass)
+    for (int i : skin)
+      for (int j : nbr[i]) s[i] = std::min(s[i], s[j] + 0.15);
+}
+
+std::vector<std::vector<int>> neighbours(const Input& in) {
+  std::vector<std::set<int>> n(in.nodes.size());
+  for (const PartTris& p : in.parts)
+    for (const Tri& t : p.tris)
+      for (int v = 0; v < 3; ++v) {
+        n[t[v]].insert(t[(v + 1) % 3]);
+        n[t[v]].insert(t[(v + 2) % 3]);
+      }
+  std::vector<std::vector<int>> out(n.size());
+  for (std::size_t i = 0; i < n.size(); ++i) out[i].assign(n[i].begin(), n[i].end());
+  return out;
+}
+
+}  // namespace
+
+std::size_t Columns::reduced_columns() const {
+  std::size_t n = 0;
+  for (int i : skin) n += scale[i] < 0.999;
+  return n;
+}
+double Columns::min_scale() const {
+  double m = 1;
+  for (int i : skin) m = std::min(m, scale[i]);
+  return m;
+}
+
+Columns make_columns(Input& in, const LayerOptions& opt) {
+  const auto& x = in.nodes;
+  // 1. Orientation of each block: normals point away from the offset side.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  std::size_t nc = 0;
+  for (auto* list : {&in.parts, &in.shells})
+    for (const PartTris& p : *list)
+      for (const Tri& t : p.tris) centroid += (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0, ++nc;
+  centroid /= double(std::max<std::size_t>(nc, 1));
+  for (auto* list : {&in.parts, &in.shells})
+    for (PartTris& p : *list) {
+      double s = 0;
+      for (const Tri& t : p.tris) {
+        const Eigen::Vector3d n = tri_normal(x, t);
+        s += in.respirator ? -n.z() : n.dot((x[t[0]] + x[t[1]] + x[t[2]]) / 3.0 - centroid);
+      }
+      if (s < 0)
+        for (Tri& t : p.tris) std::swap(t[1], t[2]);
+    }
+  // 2. Skin nodes and area-weighted vertex normals (shells included, so columns on the border
+  //    with the back of the head lean like the surface there).
+  Columns c;
+  const std::size_t n = x.size();
+  c.dir.assign(n, Eigen::Vector3d::Zero());
+  c.scale.assign(n, 1.0);
+  c.max_level.assign(n, 0);
+  std::vector<char> is_skin(n, 0);
+  for (const PartTris& p : in.parts)
+    for (const Tri& t : p.tris)
+      for (int v : t) is_skin[v] = 1;
+  for (auto* list : {&in.parts, &in.shells})
+    for (const PartTris& p : *list)
+      for (const Tri& t : p.tris) {
+        const Eigen::Vector3d nt = tri_normal(x, t);
+        for (int v : t) c.dir[v] -= nt;  // offset direction = minus the outward normal
+      }
+  for (std::size_t i = 0; i < n; ++i)
+    if (is_skin[i]) {
+      if (c.dir[i].norm() == 0) throw pipeline::bad_input("surface", "node " + std::to_string(i) + ": zero normal");
+      c.dir[i].normalize();
+      c.skin.push_back(int(i));
+    }
+  // 3. Laplacian smoothing of the directions over the whole face (all parts together).
+  const auto nbr = neighbours(in);
+  const std::vector<Eigen::Vector3d> raw = c.dir;
+  for (int it = 0; it < opt.smoothing_iterations; ++it) {
+    std::vector<Eigen::Vector3d> next = c.dir;
+    for (int i : c.skin) {
+      Eigen::Vector3d m = Eigen::Vector3d::Zero();
+      for (int j : nbr[i]) m += c.dir[j];
+      if (!nbr[i].empty()) next[i] = (0.5 * c.dir[i] + 0.5 * m / double(nbr[i].size())).normalized();
+    }
+    c.dir = next;
+  }
+  // Never lean more than ~60° from the raw vertex normal (keeps corner Jacobians healthy).
+  for (int i : c.skin)
+    for (int k = 0; k < 10 && c.dir[i].dot(raw[i]) < 0.5; ++k) c.dir[i] = (c.dir[i] + raw[i]).normalized();
+  // 4. The common depth partition: union of all interfaces and sub-layer levels.
+  std::set<double> lv{0.0};
+  for (const PartTris& p : in.parts) {
+    double cum = 0;
+    for (const auto& [mat, th] : p.stack) {
+      auto it = opt.elements_per_tissue.find(mat);
+      const int ne = it != opt.elements_per_tissue.end() ? it->second : opt.elements_per_layer;
+      for (int m = 1; m <= ne; ++m) lv.insert(std::round((cum + th * m / ne) * 1e6) / 1e6);
+      cum += th;
+    }
+  }
+  c.levels.assign(lv.begin(), lv.end());
+  for (const PartTris& p : in.parts) {
+    double cum = 0;
+    std::vector<double> ends;
+    for (const auto& l : p.stack) ends.push_back(cum += l.second);
+    std::vector<int>& tol = c.tissue_of_level[p.name];
+    for (std::size_t k = 0; k + 1 < c.levels.size() && c.levels[k + 1] <= cum + 1e-9; ++k) {
+      std::size_t j = 0;
+      while (j + 1 < ends.size() && c.levels[k] >= ends[j] - 1e-9) ++j;
+      tol.push_back(int(j));
+    }
+    for (const Tri& t : p.tris)
+      for (int v : t) c.max_level[v] = std::max(c.max_level[v], int(tol.size()));
+  }
+  // 5. Depth caps from ray casts: a column may use at most ray_fraction of the distance to the
+  //    surface it points at (nose, chin: two offsets from opposite sides must not meet).
+  std::vector<Tri> all;
+  for (auto* list : {&in.parts, &in.shells})
+    for (const PartTris& p : *list) all.insert(all.end(), p.tris.begin(), p.tris.end());
+  std::vector<Eigen::Vector3d> dirs;
+  for (int i : c.skin) dirs.push_back(c.dir[i]);
+  const std::vector<double> hit = ray_hit_distances(x, all, c.skin, dirs);
+  for (std::size_t q = 0; q < c.skin.size(); ++q) {
+    const int i = c.skin[q];
+    const double depth = c.levels[c.max_level[i]];
+    if (std::isfinite(hit[q]) && depth > 0) c.scale[i] = std::min(1.0, opt.ray_fraction * hit[q] / depth);
+  }
+  limit_gradient(nbr, c.skin, c.scale);
+  return c;
+}
+
+void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline::Progress* progress) {
+  const auto& x = in.nodes;
+  for (const PartTris& p : in.parts)
+    for (std::size_t e = 0; e < p.tris.size(); ++e) {
+      const double q = triangle_quality(x, p.tris[e]);
+      if (q < opt.min_scaled_jacobian)
+        throw pipeline::bad_input("surface", "part " + p.name + " triangle " + std::to_string(e) +
+                                                 " too distorted for wedges: shape quality " + std::to_string(q) +
+                                                 ", expected >= " + std::to_string(opt.min_scaled_jacobian) +
+                                                 " (remesh the surface)");
+    }
+  const auto nbr = neighbours(in);
+  for (int iter = 0; iter < opt.max_fix_iterations; ++iter) {
+    // Build the current wedges (all parts) and shells as one model.
+    FeModel m;
+    m.nodes = x;
+    std::vector<std::vector<int>> id(x.size());
+    for (int i : c.skin) {
+      id[i].assign(c.max_level[i] + 1, i);
+      for (int k = 1; k <= c.max_level[i]; ++k) {
+        id[i][k] = int(m.nodes.size());
+        m.nodes.push_back(c.position(x, i, k));
+      }
+    }
+    Block w{"wedges", 3, 6, {}}, sh{"shells", 2, 3, {}};
+    std::vector<std::pair<Tri, Eigen::Vector3d>> owner;  // columns and inward normal of each wedge
+    std::set<int> bad;
+    for (const PartTris& p : in.parts) {
+      const int nlev = int(c.tissue_of_level.at(p.name).size());
+      for (const Tri& t : p.tris) {
+        const Eigen::Vector3d nin = -tri_normal(x, t).normalized();
+        for (int k = 0; k < nlev; ++k) {
+          Eigen::Vector3d pts[6];
+          int ids[6];
+          for (int v = 0; v < 3; ++v) {
+            ids[v] = id[t[v]][k + 1];
+            ids[v + 3] = id[t[v]][k];
+            pts[v] = m.nodes[ids[v]];
+            pts[v + 3] = m.nodes[ids[v + 3]];
+          }
+          if (wedge_scaled_jacobian(pts) < opt.min_scaled_jacobian || wedge_volume(pts) <= 0)
+            bad.insert(int(owner.size()));
+          w.conn.insert(w.conn.end(), ids, ids + 6);
+          owner.push_back({t, nin});
+        }
+      }
+    }
+    std::string what = "wedges below quality";
+    if (bad.empty()) {
+      for (const PartTris& s : in.shells)
+        for (const Tri& t : s.tris) sh.conn.insert(sh.conn.end(), {t[0], t[1], t[2]});
+      m.blocks = {w, sh};
+      std::vector<Tri> tris;
+      std::vector<std::pair<int, int>> own;
+      element_faces(m, &tris, &own);
+      for (auto [a, b] : intersecting_triangles(m.nodes, tris))
+        for (int f : {a, b})
+          if (own[f].first == 0) bad.insert(own[f].second);
+      what = "wedges with intersecting faces";
+      if (bad.empty()) return;
+    }
+    if (progress) progress->step("fix pass " + std::to_string(iter + 1) + ": " + std::to_string(bad.size()) + " " + what);
+    std::set<int> cols;
+    for (int e : bad)
+      for (int v : owner[e].first) {
+        if (cols.insert(v).second) c.scale[v] *= 0.85;
+        c.dir[v] = (c.dir[v] + 0.2 * owner[e].second).normalized();
+      }
+    limit_gradient(nbr, c.skin, c.scale);
+  }
+  throw pipeline::algorithm_failed("layers", "wedges still inverted, distorted or intersecting after " +
+                                                 std::to_string(opt.max_fix_iterations) + " thinning passes");
+}
+
+void element_faces(const FeModel& m, std::vector<Tri>* tris, std::vector<std::pair<int, int>>* owner) {
+  std::map<std::array<int, 3>, int> seen;
+  auto add = [&](Tri t, int b, int e) {
+    Tri key = t;
+    std::sort(key.begin(), key.end());
+    if (seen.emplace(key, int(tris->size())).second) {
+      tris->push_back(t);
+      owner->push_back({b, e});
+    }
+  };
+  auto add_quad = [&](int a, int b, int cc, int d, int bl, int e) {
+    if (std::min(a, cc) < std::min(b, d)) add({a, b, cc}, bl, e), add({a, cc, d}, bl, e);
+    else add({a, b, d}, bl, e), add({b, cc, d}, bl, e);
+  };
+  for (std::size_t bi = 0; bi < m.blocks.size(); ++bi) {
+    const Block& b = m.blocks[bi];
+    for (std::size_t e = 0; e < b.size(); ++e) {
+      const int* v = &b.conn[e * b.nodes_per_elem];
+      if (b.dim == 3 && b.nodes_per_elem == 6) {
+        add({v[0], v[1], v[2]}, int(bi), int(e));
+        add({v[3], v[4], v[5]}, int(bi), int(e));
+        add_quad(v[0], v[1], v[4], v[3], int(bi), int(e));
+        add_quad(v[1], v[2], v[5], v[4], int(bi), int(e));
+        add_quad(v[2], v[0], v[3], v[5], int(bi), int(e));
+      } else if (b.dim == 2 && b.nodes_per_elem == 3) {
+        add({v[0], v[1], v[2]}, int(bi), int(e));
+      } else if (b.dim == 2 && b.nodes_per_elem == 4) {
+        add_quad(v[0], v[1], v[2], v[3], int(bi), int(e));
+      }
+    }
+  }
+}
+
+}  // namespace layering::internal

@@ -1,0 +1,59 @@
+#pragma once
+/// Internals of build_layers: node columns (offset direction, depth scale, levels), their
+/// detection-and-fix loop, and the element-face soup used by the intersection test.
+#include <Eigen/Core>
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "layering/layers.h"
+#include "pipeline/progress.h"
+
+namespace layering::internal {
+
+using Tri = std::array<int, 3>;
+
+struct PartTris {
+  std::string name;
+  std::vector<Tri> tris;
+  Stack stack;  ///< empty for rigid shells
+};
+
+struct Input {
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<PartTris> parts, shells;
+  bool respirator = false;
+};
+
+/// One column per skin node: node(i, k) = nodes[i] + scale[i] · levels[k] · dir[i].
+struct Columns {
+  std::vector<int> skin;                  ///< skin node ids (nodes of layered parts)
+  std::vector<Eigen::Vector3d> dir;       ///< by node id: unit offset direction (0 off the skin)
+  std::vector<double> scale;              ///< by node id: depth scale in (0, 1]
+  std::vector<int> max_level;             ///< by node id: deepest level any incident part needs
+  std::vector<double> levels;             ///< common depth partition [mm], levels[0] = 0
+  std::map<std::string, std::vector<int>> tissue_of_level;  ///< part → tissue index of level k→k+1
+  Eigen::Vector3d position(const std::vector<Eigen::Vector3d>& x, int i, int k) const {
+    return x[i] + scale[i] * levels[k] * dir[i];
+  }
+  std::size_t reduced_columns() const;
+  double min_scale() const;
+};
+
+/// Orients every triangle so its normal points away from the offset side (head: away from the
+/// centroid; respirator: toward −z, the face), then computes directions, levels and ray caps.
+Columns make_columns(Input& in, const LayerOptions& opt);
+
+/// Detect-and-fix loop: scales column depths down (and pulls directions toward the face normal)
+/// around every wedge below the quality threshold or whose faces intersect another element.
+/// @throws Error(bad_input) for a skin triangle that is itself too distorted;
+///         Error(algorithm) if not clean after opt.max_fix_iterations passes.
+void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline::Progress* progress);
+
+/// Deduplicated triangles of every element face of `m` (wedge triangles, wedge and shell quads split
+/// along the diagonal through their smallest node id, shell triangles); owner[t] = (block, element).
+void element_faces(const FeModel& m, std::vector<Tri>* tris, std::vector<std::pair<int, int>>* owner);
+
+}  // namespace layering::internal

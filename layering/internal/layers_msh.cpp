@@ -1,0 +1,169 @@
+// Reading and writing FeModel as gmsh .msh through the gmsh API (gmsh knows its own format best;
+// one discrete entity + one named physical group per block).
+#include <gmsh.h>
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "layering/layers.h"
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+
+namespace layering {
+namespace {
+
+// gmsh element type codes for the element shapes we use.
+int gmsh_type(int dim, int npe) {
+  if (dim == 0 && npe == 1) return 15;
+  if (dim == 1 && npe == 2) return 1;
+  if (dim == 2 && npe == 3) return 2;
+  if (dim == 2 && npe == 4) return 3;
+  if (dim == 3 && npe == 6) return 6;
+  if (dim == 3 && npe == 4) return 4;
+  return -1;
+}
+
+// gmsh keeps global state: initialise once per call and always finalise.
+struct GmshSession {
+  GmshSession() {
+    gmsh::initialize();
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 1);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+};
+
+}  // namespace
+
+const Block* FeModel::find(const std::string& name) const {
+  for (const Block& b : blocks)
+    if (b.name == name) return &b;
+  return nullptr;
+}
+
+FeModel read_fe_model(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw pipeline::bad_input(path, "no such file");
+  GmshSession session;
+  try {
+    gmsh::open(path);
+  } catch (const std::exception& e) {
+    throw pipeline::bad_input(path, std::string("gmsh cannot read it: ") + e.what());
+  }
+  FeModel m;
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz, param;
+  gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, true, false);
+  std::map<std::size_t, int> index;
+  for (std::size_t i = 0; i < tags.size(); ++i) {
+    if (index.count(tags[i])) continue;
+    index[tags[i]] = int(m.nodes.size());
+    m.nodes.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  }
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups);
+  for (auto [dim, ptag] : groups) {
+    Block b;
+    b.dim = dim;
+    gmsh::model::getPhysicalName(dim, ptag, b.name);
+    if (b.name.empty()) b.name = "group_" + std::to_string(dim) + "_" + std::to_string(ptag);
+    std::vector<int> ents;
+    gmsh::model::getEntitiesForPhysicalGroup(dim, ptag, ents);
+    b.nodes_per_elem = 0;
+    for (int e : ents) {
+      std::vector<int> types;
+      std::vector<std::vector<std::size_t>> etags, ntags;
+      gmsh::model::mesh::getElements(types, etags, ntags, dim, e);
+      for (std::size_t t = 0; t < types.size(); ++t) {
+        std::string name;
+        int edim, order, npe, nprim;
+        std::vector<double> loc;
+        gmsh::model::mesh::getElementProperties(types[t], name, edim, order, npe, loc, nprim);
+        if (b.nodes_per_elem && b.nodes_per_elem != npe)
+          throw pipeline::bad_input(path, "group " + b.name + " mixes element types");
+        b.nodes_per_elem = npe;
+        for (std::size_t n : ntags[t]) {
+          auto it = index.find(n);
+          if (it == index.end())
+            throw pipeline::bad_input(path, "element of group " + b.name + " uses missing node " + std::to_string(n));
+          b.conn.push_back(it->second);
+        }
+      }
+    }
+    if (b.nodes_per_elem == 0) b.nodes_per_elem = dim == 0 ? 1 : dim == 1 ? 2 : dim == 2 ? 3 : 6;
+    m.blocks.push_back(std::move(b));
+  }
+  if (m.blocks.empty()) throw pipeline::bad_input(path, "no physical group: expected named parts");
+  return m;
+}
+
+void write_fe_model(const FeModel& m, const std::string& path) {
+  pipeline::write_atomic(path, [&](const std::string& tmp) {
+    GmshSession session;
+    gmsh::model::add("model");
+    // Nodes live on the first block of the highest dimension; elements of any block refer to them.
+    int host = 0;
+    for (std::size_t i = 0; i < m.blocks.size(); ++i)
+      if (m.blocks[i].dim > m.blocks[host].dim) host = int(i);
+    for (std::size_t i = 0; i < m.blocks.size(); ++i) gmsh::model::addDiscreteEntity(m.blocks[i].dim, int(i) + 1);
+    std::vector<std::size_t> ntags(m.nodes.size());
+    std::vector<double> xyz(3 * m.nodes.size());
+    for (std::size_t i = 0; i < m.nodes.size(); ++i) {
+      ntags[i] = i + 1;
+      for (int k = 0; k < 3; ++k) xyz[3 * i + k] = m.nodes[i][k];
+    }
+    if (!m.blocks.empty()) gmsh::model::mesh::addNodes(m.blocks[host].dim, host + 1, ntags, xyz);
+    std::size_t next = 1;
+    for (std::size_t i = 0; i < m.blocks.size(); ++i) {
+      const Block& b = m.blocks[i];
+      const int type = gmsh_type(b.dim, b.nodes_per_elem);
+      if (type < 0) throw pipeline::io_failed(path, "block " + b.name + ": unsupported element shape");
+      std::vector<std::size_t> et(b.size()), nt(b.conn.size());
+      for (std::size_t e = 0; e < et.size(); ++e) et[e] = next++;
+      for (std::size_t k = 0; k < nt.size(); ++k) nt[k] = std::size_t(b.conn[k]) + 1;
+      if (!et.empty()) gmsh::model::mesh::addElementsByType(int(i) + 1, type, et, nt);
+      gmsh::model::addPhysicalGroup(b.dim, {int(i) + 1}, int(i) + 1);
+      gmsh::model::setPhysicalName(b.dim, int(i) + 1, b.name);
+    }
+    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+    gmsh::option::setNumber("Mesh.Binary", 0);
+    gmsh::option::setNumber("Mesh.SaveAll", 0);
+    gmsh::write(tmp);
+  });
+}
+
+std::map<std::string, Stack> read_stacks(const std::string& materials_json, const std::string& kind) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(pipeline::read_text(materials_json));
+  } catch (const nlohmann::json::exception& e) {
+    throw pipeline::bad_input(materials_json, std::string("not valid JSON: ") + e.what());
+  }
+  auto parse_stack = [&](const nlohmann::json& a, const std::string& where) {
+    Stack s;
+    if (!a.is_array() || a.empty()) throw pipeline::bad_input(materials_json, where + ": expected [[material, mm], ...]");
+    for (const auto& l : a) {
+      if (!l.is_array() || l.size() != 2 || !l[0].is_string() || !l[1].is_number() || l[1].get<double>() <= 0)
+        throw pipeline::bad_input(materials_json, where + ": bad layer " + l.dump() + ", expected [material, mm > 0]");
+      const std::string mat = l[0];
+      if (!j.contains("materials") || !j["materials"].contains(mat))
+        throw pipeline::bad_input(materials_json, where + ": material '" + mat + "' not in \"materials\"");
+      s.emplace_back(mat, l[1].get<double>());
+    }
+    return s;
+  };
+  std::map<std::string, Stack> out;
+  if (kind == "head") {
+    if (!j.contains("head_layers_mm")) throw pipeline::bad_input(materials_json, "no \"head_layers_mm\"");
+    for (auto& [part, a] : j["head_layers_mm"].items())
+      if (part[0] != '_') out[part] = parse_stack(a, "head_layers_mm." + part);
+  } else if (kind == "respirator") {
+    if (!j.contains("respirator_layers_mm")) throw pipeline::bad_input(materials_json, "no \"respirator_layers_mm\"");
+    out["respirator_inner"] = parse_stack(j["respirator_layers_mm"], "respirator_layers_mm");
+  } else {
+    throw pipeline::Error(pipeline::ErrorKind::usage, "kind '" + kind + "': expected head or respirator");
+  }
+  return out;
+}
+
+}  // namespace layering

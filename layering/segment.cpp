@@ -1,0 +1,236 @@
+#include "layering/segment.h"
+
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "layering/internal/segment_cut.h"
+#include "pipeline/error.h"
+
+namespace layering {
+
+using pipeline::FaceIndex;
+using pipeline::SurfaceMesh;
+using Halfedge = SurfaceMesh::Halfedge_index;
+using Labels = SurfaceMesh::Property_map<FaceIndex, int>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+const char* part_name(int label) {
+  static const char* names[] = {"back_of_head", "forehead", "left_cheek", "right_cheek", "chin"};
+  return label >= 0 && label < 5 ? names[label] : "unknown";
+}
+
+namespace {
+
+double mean_edge_length(const SurfaceMesh& mesh) {
+  double sum = 0;
+  for (auto e : mesh.edges()) sum += PMP::edge_length(e, mesh);
+  return mesh.number_of_edges() ? sum / mesh.number_of_edges() : 1.0;
+}
+
+/// Smooth maximum (log-sum-exp) of signed distances: rounds the corners of an intersection of
+/// half-spaces {φ_i < 0} with a blend radius r [mm].
+double smooth_max(std::initializer_list<double> phi, double r) {
+  const double m = std::max(phi);
+  double s = 0;
+  for (double p : phi) s += std::exp((p - m) / r);
+  return m + r * std::log(s);
+}
+
+/// Face components of one label; faces are adjacent across an edge.
+std::vector<std::vector<FaceIndex>> components(const SurfaceMesh& mesh, const Labels& label, int l) {
+  std::vector<std::vector<FaceIndex>> comps;
+  std::vector<char> seen(mesh.number_of_faces(), 0);
+  for (auto f : mesh.faces()) {
+    if (label[f] != l || seen[f]) continue;
+    comps.emplace_back();
+    std::vector<FaceIndex> stack{f};
+    seen[f] = 1;
+    while (!stack.empty()) {
+      const FaceIndex g = stack.back();
+      stack.pop_back();
+      comps.back().push_back(g);
+      for (Halfedge h : CGAL::halfedges_around_face(mesh.halfedge(g), mesh)) {
+        const FaceIndex n = mesh.face(mesh.opposite(h));
+        if (n != SurfaceMesh::null_face() && label[n] == l && !seen[n]) {
+          seen[n] = 1;
+          stack.push_back(n);
+        }
+      }
+    }
+  }
+  return comps;
+}
+
+/// Merges every component of a label other than its largest into the neighbouring label it
+/// shares most edges with, until each label is one component.
+void merge_islands(SurfaceMesh& mesh, Labels& label, const std::vector<int>& labels) {
+  for (int pass = 0; pass < 20; ++pass) {
+    bool changed = false;
+    for (int l : labels) {
+      auto comps = components(mesh, label, l);
+      if (comps.size() < 2) continue;
+      std::sort(comps.begin(), comps.end(), [](auto& a, auto& b) { return a.size() > b.size(); });
+      for (std::size_t c = 1; c < comps.size(); ++c) {
+        std::map<int, int> votes;
+        for (FaceIndex f : comps[c])
+          for (Halfedge h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+            const FaceIndex n = mesh.face(mesh.opposite(h));
+            if (n != SurfaceMesh::null_face() && label[n] != l) ++votes[label[n]];
+          }
+        if (votes.empty()) continue;
+        const int to = std::max_element(votes.begin(), votes.end(),
+                                        [](auto& a, auto& b) { return a.second < b.second; })->first;
+        for (FaceIndex f : comps[c]) label[f] = to;
+        changed = true;
+      }
+    }
+    if (!changed) return;
+  }
+}
+
+}  // namespace
+
+PartStats part_stats(const SurfaceMesh& mesh, int l) {
+  auto found = mesh.property_map<FaceIndex, int>(pipeline::part_property);
+  if (!found.second) throw pipeline::bad_input("mesh", "no face property \"f:part\" (not a segmented mesh)");
+  const Labels label = found.first;
+  auto in = [&](FaceIndex f) { return f != SurfaceMesh::null_face() && label[f] == l; };
+  PartStats s;
+  s.label = l;
+  std::set<SurfaceMesh::Vertex_index> verts;
+  std::size_t edges2 = 0, border = 0;  // edges counted from both sides, border edges once
+  std::vector<Halfedge> boundary;
+  for (auto f : mesh.faces()) {
+    if (!in(f)) continue;
+    ++s.faces;
+    s.area_mm2 += PMP::face_area(f, mesh);
+    for (Halfedge h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+      verts.insert(mesh.target(h));
+      if (in(mesh.face(mesh.opposite(h)))) {
+        ++edges2;
+      } else {
+        ++border;
+        boundary.push_back(h);
+      }
+    }
+  }
+  const std::size_t edges = edges2 / 2 + border;
+  s.euler = int(verts.size()) - int(edges) + int(s.faces);
+  // Follow boundary loops: from a boundary halfedge, turn around its target to the next one.
+  std::set<Halfedge> todo(boundary.begin(), boundary.end());
+  while (!todo.empty()) {
+    ++s.boundary_loops;
+    Halfedge start = *todo.begin(), h = start;
+    do {
+      todo.erase(h);
+      Halfedge n = mesh.next(h);
+      while (in(mesh.face(mesh.opposite(n)))) n = mesh.next(mesh.opposite(n));
+      h = n;
+    } while (h != start && todo.count(h));
+  }
+  return s;
+}
+
+std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) {
+  // 1. Frame quantities from the landmarks [mm].
+  const double face_length = lm.sellion[1] - lm.menton[1];
+  const double z_zyg = 0.5 * (lm.zygion_left[2] + lm.zygion_right[2]);
+  const double z_tra = 0.5 * (lm.tragion_left[2] + lm.tragion_right[2]);
+  const double z_lateral = z_zyg - 0.3 * (z_zyg - z_tra);  // coronal cut just behind the zygia
+  const double y_top = lm.sellion[1] + 0.45 * face_length;  // upper forehead
+  const double gy = 0.5 * (lm.gonion_left[1] + lm.gonion_right[1]);
+  const double gz = 0.5 * (lm.gonion_left[2] + lm.gonion_right[2]);
+  const double gx = 0.5 * (lm.gonion_left[0] - lm.gonion_right[0]);
+  // Jaw plane: contains the x axis direction, the gonia and a point under the chin where the
+  // under-chin turns into the neck (about 0.12 FL below and 0.38 FL behind the menton).
+  const double py = lm.menton[1] - 0.12 * face_length, pz = lm.menton[2] - 0.38 * face_length;
+  double ny = -(gz - pz), nz = gy - py;
+  const double nn = std::hypot(ny, nz);
+  ny /= nn, nz /= nn;
+  const double y_mouth = lm.menton[1] + 0.35 * face_length;
+  const double blend_mm = 8.0;
+
+  // 2. Fields (signed distance-like, mm); part = sign pattern.
+  auto fface = mesh.add_property_map<pipeline::VertexIndex, double>("v:seg_face", 0).first;
+  auto ffore = mesh.add_property_map<pipeline::VertexIndex, double>("v:seg_forehead", 0).first;
+  auto fchin = mesh.add_property_map<pipeline::VertexIndex, double>("v:seg_chin", 0).first;
+  auto fside = mesh.add_property_map<pipeline::VertexIndex, double>("v:seg_side", 0).first;
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    const double x = p.x(), y = p.y(), z = p.z();
+    const double in_front = z_lateral - z;
+    const double above_jaw = -(ny * (y - py) + nz * (z - pz));
+    const double below_top = y - y_top;
+    fface[v] = smooth_max({in_front, above_jaw, below_top}, blend_mm);
+    const double w = 0.12 * face_length;
+    ffore[v] = y - (lm.sellion[1] - 0.15 * face_length - 0.10 * face_length * std::exp(-(x * x) / (w * w)));
+    fchin[v] = y - (y_mouth - (y_mouth - gy) * (x / gx) * (x / gx));
+    fside[v] = x;
+  }
+  std::vector<internal::Field> fields{fface, ffore, fchin, fside};
+  const double snap = 0.1 * mean_edge_length(mesh);
+  for (std::size_t i = 0; i < fields.size(); ++i) internal::cut_at_zero(mesh, fields, i, snap);
+
+  // 3. Label each face from the signs of the fields (a face has no mixed signs after cutting).
+  Labels label = mesh.add_property_map<FaceIndex, int>(pipeline::part_property, 0).first;
+  for (auto f : mesh.faces()) {
+    double s[4] = {0, 0, 0, 0};
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+      for (int i = 0; i < 4; ++i) s[i] += fields[i][v];
+    if (s[0] >= 0) label[f] = back_of_head;
+    else if (s[1] > 0) label[f] = forehead;
+    else if (s[2] < 0) label[f] = chin;
+    else label[f] = s[3] > 0 ? left_cheek : right_cheek;
+  }
+  for (auto& f : fields) mesh.remove_property_map(f);
+
+  // 4. Islands merged; each label one connected piece.
+  merge_islands(mesh, label, {forehead, left_cheek, right_cheek, chin, back_of_head});
+  std::vector<PartStats> stats;
+  for (int l = 0; l < 5; ++l) {
+    stats.push_back(part_stats(mesh, l));
+    if (stats.back().faces == 0)
+      throw pipeline::algorithm_failed("segment", std::string("part ") + part_name(l) +
+                                                      " is empty: are the landmarks on this head?");
+  }
+  return stats;
+}
+
+PartStats segment_respirator(SurfaceMesh& mesh) {
+  // 1. Cavity centre: centroid of the vertices (inside the concave side of a cup-like shell).
+  double c[3] = {0, 0, 0};
+  for (auto v : mesh.vertices()) {
+    c[0] += mesh.point(v).x(), c[1] += mesh.point(v).y(), c[2] += mesh.point(v).z();
+  }
+  for (double& x : c) x /= std::max<std::size_t>(1, mesh.number_of_vertices());
+  // 2. Inner faces: outward normal pointing toward the face side (−z) and into the cavity.
+  Labels label = mesh.add_property_map<FaceIndex, int>(pipeline::part_property, 1).first;
+  for (auto f : mesh.faces()) {
+    const auto n = PMP::compute_face_normal(f, mesh);
+    const auto h = mesh.halfedge(f);
+    const auto& p = mesh.point(mesh.target(h));
+    const double dx = c[0] - p.x(), dy = c[1] - p.y();
+    // Toward the cavity axis (lateral part) and toward −z: both favour the inner surface; the
+    // rim (normal ≈ −z) counts as inner.
+    const double lateral = (n.x() * dx + n.y() * dy) / std::max(1e-9, std::hypot(dx, dy));
+    if (-n.z() + 0.5 * lateral > 0) label[f] = respirator_inner;
+  }
+  merge_islands(mesh, label, {respirator_inner, 1});
+  // 3. Drop everything but the inner face.
+  std::vector<FaceIndex> drop;
+  for (auto f : mesh.faces())
+    if (label[f] != respirator_inner) drop.push_back(f);
+  for (auto f : drop) CGAL::Euler::remove_face(mesh.halfedge(f), mesh);
+  mesh.collect_garbage();
+  if (mesh.number_of_faces() == 0)
+    throw pipeline::algorithm_failed("segment", "no inner face found: is the respirator aligned (concave side toward -z)?");
+  return part_stats(mesh, respirator_inner);
+}
+
+}  // namespace layering
