@@ -1,6 +1,8 @@
 // build_layers: offset the face parts into conforming wedge layers (see layers.h for the method).
 #include "layering/layers.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
