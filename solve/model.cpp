@@ -1,0 +1,126 @@
+#include "solve/model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/error.h"
+
+namespace solve {
+
+int nodes_per_element(ElementType t) {
+  switch (t) {
+    case ElementType::tet4: return 4;
+    case ElementType::wedge6: return 6;
+    case ElementType::hex8: return 8;
+    case ElementType::tri3: return 3;
+    case ElementType::quad4: return 4;
+  }
+  return 0;
+}
+
+bool is_membrane(ElementType t) { return t == ElementType::tri3 || t == ElementType::quad4; }
+
+const char* element_name(ElementType t) {
+  switch (t) {
+    case ElementType::tet4: return "tet4";
+    case ElementType::wedge6: return "wedge6";
+    case ElementType::hex8: return "hex8";
+    case ElementType::tri3: return "tri3";
+    case ElementType::quad4: return "quad4";
+  }
+  return "?";
+}
+
+double Curve::at(double time) const {
+  if (t.empty()) return 0.0;
+  if (time <= t.front()) return value.front();
+  if (time >= t.back()) return value.back();
+  auto it = std::upper_bound(t.begin(), t.end(), time);
+  std::size_t i = std::size_t(it - t.begin());  // t[i-1] <= time < t[i]
+  double t0 = t[i - 1], t1 = t[i];
+  if (t1 <= t0) return value[i];
+  double w = (time - t0) / (t1 - t0);
+  return (1 - w) * value[i - 1] + w * value[i];
+}
+
+const std::vector<int>& Model::group(const std::string& g) const {
+  auto it = node_groups.find(g);
+  if (it == node_groups.end()) throw pipeline::bad_input(name, "no physical group named '" + g + "'");
+  return it->second;
+}
+
+const std::vector<std::array<int, 3>>& Model::surface(const std::string& g) const {
+  auto it = surfaces.find(g);
+  if (it == surfaces.end() || it->second.empty())
+    throw pipeline::bad_input(name, "group '" + g + "' has no surface facets (2D elements or 3D boundary)");
+  return it->second;
+}
+
+int Model::material_index(const std::string& m) const {
+  for (std::size_t i = 0; i < materials.size(); ++i)
+    if (materials[i].name == m) return int(i);
+  throw pipeline::bad_input(name, "no material named '" + m + "'");
+}
+
+void check_model(const Model& m) {
+  auto bad = [&](const std::string& what) { return pipeline::bad_input(m.name, what); };
+  const std::size_t n = m.n_nodes();
+  if (n == 0) throw bad("no nodes");
+  for (double c : m.X)
+    if (!std::isfinite(c)) throw bad("non-finite node coordinate");
+  if (m.parts.empty()) throw bad("no parts: the deck assigns no material to any element group");
+  for (const auto& mat : m.materials) {
+    if (!(mat.density > 0)) throw bad("material '" + mat.name + "': density must be > 0");
+    if (!(mat.E > 0)) throw bad("material '" + mat.name + "': E must be > 0");
+    if (!(mat.nu >= 0 && mat.nu < 0.5)) throw bad("material '" + mat.name + "': nu must be in [0, 0.5)");
+  }
+  std::vector<char> has_mass(n, 0);
+  for (const auto& p : m.parts) {
+    if (p.material < 0 || p.material >= int(m.materials.size()))
+      throw bad("part '" + p.name + "': no material");
+    if (is_membrane(p.type) && !(p.thickness > 0))
+      throw bad("part '" + p.name + "': membrane needs a thickness > 0");
+    if (p.conn.empty()) throw bad("part '" + p.name + "': no elements");
+    for (int id : p.conn) {
+      if (id < 0 || std::size_t(id) >= n) throw bad("part '" + p.name + "': node id out of range");
+      has_mass[id] = 1;
+    }
+  }
+  auto check_group = [&](const std::string& g) { m.group(g); };
+  for (const auto& b : m.bcs) {
+    check_group(b.group);
+    if (b.dof < 0 || b.dof > 2) throw bad("boundary condition on '" + b.group + "': dof must be x, y or z");
+  }
+  for (const auto& l : m.loads) check_group(l.group);
+  for (const auto& iv : m.initial_velocities) check_group(iv.group);
+  for (const auto& t : m.ties) {
+    check_group(t.group_a);
+    check_group(t.group_b);
+  }
+  for (const auto& c : m.contacts) {
+    check_group(c.slave);
+    m.surface(c.master);
+    if (!(c.penalty_scale > 0 && c.penalty_scale <= 1))
+      throw bad("contact '" + c.name + "': penalty_scale must be in (0, 1]");
+  }
+  for (const auto& g : m.output.history_groups) check_group(g);
+  for (const auto& c : m.contacts)
+    for (int id : m.group(c.slave))
+      if (!has_mass[id]) throw bad("contact '" + c.name + "': slave node " + std::to_string(m.node_tags.empty() ? id : m.node_tags[id]) + " belongs to no part (no mass)");
+  const Control& c = m.control;
+  if (!(c.end_time > 0)) throw bad("control.end_time must be > 0");
+  if (!(c.damping_alpha >= 0)) throw bad("control.damping_alpha must be >= 0");
+  if (!(c.dt_scale > 0 && c.dt_scale <= 1)) throw bad("control.dt_scale must be in (0, 1]");
+  if (!(c.dt_target >= 0)) throw bad("control.dt_target must be >= 0");
+  if (c.dt_update_interval < 1) throw bad("control.dt_update_interval must be >= 1");
+  if (!(c.hourglass >= 0 && c.hourglass <= 1)) throw bad("control.hourglass must be in [0, 1]");
+  if (!(c.output_interval >= 0) || !(c.history_interval >= 0)) throw bad("output intervals must be >= 0");
+  if (!(c.energy_tolerance > 0)) throw bad("control.energy_tolerance must be > 0");
+  if (!(c.penetration_tolerance > 0)) throw bad("control.penetration_tolerance must be > 0");
+  static const char* known[] = {"displacement", "velocity", "contact_pressure", "contact_shear", "von_mises"};
+  for (const auto& d : m.output.node_data)
+    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return d == k; }) == std::end(known))
+      throw bad("output.node_data: unknown field '" + d + "'");
+}
+
+}  // namespace solve

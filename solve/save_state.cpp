@@ -1,0 +1,65 @@
+#include "solve/save_state.h"
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+
+namespace solve {
+namespace {
+const char kMagic[16] = "SOLVE_STATE_v1\n";
+
+void put_vec(std::ofstream& o, const std::vector<double>& v) {
+  const std::uint64_t n = v.size();
+  o.write(reinterpret_cast<const char*>(&n), sizeof n);
+  o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(n * sizeof(double)));
+}
+}  // namespace
+
+void save_state(const std::string& path, const SolverState& s) {
+  pipeline::write_atomic(path, [&](const std::string& tmp) {
+    std::ofstream o(tmp, std::ios::binary);
+    o.write(kMagic, sizeof kMagic);
+    const double scalars[8] = {s.time, s.dt, double(s.step), s.e_contact, s.e_damping, s.w_external, s.e_initial,
+                               s.e_initial_set ? 1.0 : 0.0};
+    o.write(reinterpret_cast<const char*>(scalars), sizeof scalars);
+    put_vec(o, s.X);
+    put_vec(o, s.x);
+    put_vec(o, s.v);
+    put_vec(o, s.rigid);
+    if (!o) throw pipeline::io_failed(path, "write failed");
+  });
+}
+
+SolverState load_state(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw pipeline::bad_input(path, "cannot open the state file");
+  char magic[16];
+  in.read(magic, sizeof magic);
+  if (!in || std::memcmp(magic, kMagic, sizeof magic) != 0)
+    throw pipeline::bad_input(path, "not a solve state file (bad header)");
+  double sc[8];
+  in.read(reinterpret_cast<char*>(sc), sizeof sc);
+  SolverState s;
+  s.time = sc[0]; s.dt = sc[1]; s.step = long(sc[2]);
+  s.e_contact = sc[3]; s.e_damping = sc[4]; s.w_external = sc[5]; s.e_initial = sc[6]; s.e_initial_set = sc[7] != 0;
+  auto get_vec = [&](std::vector<double>& v) {
+    std::uint64_t n = 0;
+    in.read(reinterpret_cast<char*>(&n), sizeof n);
+    if (!in || n > (1ull << 32)) throw pipeline::bad_input(path, "truncated state file");
+    v.resize(n);
+    in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(double)));
+    if (!in) throw pipeline::bad_input(path, "truncated state file");
+  };
+  get_vec(s.X);
+  get_vec(s.x);
+  get_vec(s.v);
+  get_vec(s.rigid);
+  if (s.x.size() != s.X.size() || s.v.size() != s.X.size())
+    throw pipeline::bad_input(path, "inconsistent state file (array sizes differ)");
+  return s;
+}
+
+}  // namespace solve

@@ -1,0 +1,346 @@
+#include "solve/solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "pipeline/error.h"
+#include "solve/internal/constraints.h"
+#include "solve/internal/elements.h"
+
+namespace solve {
+
+using internal::ElementBlock;
+
+struct Solver::Impl {
+  Model m;
+  std::size_t n = 0;
+  std::vector<ElementBlock> blocks;
+  std::vector<std::vector<double>> mass_factor;  // per block, per element (empty: 1)
+  std::vector<double> fe;                        // element forces, all blocks
+  std::vector<long> node_ptr, node_inc;          // CSR node → indices into fe (first of 3)
+  std::vector<double> X, x, v, mass, fint, fext, fcon, reac;
+  internal::Constraints con;
+  std::vector<ContactPair> pairs;
+  double time = 0, dt = 0, dt_stable = 0, added = 0;
+  long step = 0;
+  Energies en;
+  double e_initial = 0;
+  bool e_initial_set = false;
+
+  double compute_stable_dt() const {
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < blocks.size(); ++k)
+      d = std::min(d, internal::stable_dt_for_elems(blocks[k], x.data(), mass_factor[k]));
+    return d;
+  }
+  double internal_energy() const {
+    double w = 0;
+    for (const auto& b : blocks)
+      if (!b.rigid) w += internal::energy_for_elems(b, x.data());
+    return w;
+  }
+};
+
+Solver::Solver(Model model) : p_(std::make_unique<Impl>()) {
+  check_model(model);
+  Impl& s = *p_;
+  s.m = std::move(model);
+  const Model& m = s.m;
+  s.n = m.n_nodes();
+  s.X = m.X;
+  s.x = m.X;
+  s.v.assign(3 * s.n, 0.0);
+  s.mass.assign(s.n, 0.0);
+  // 1. Elements, masses (with optional mass scaling to control.dt_target).
+  std::size_t off = 0;
+  double dt_min = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < m.parts.size(); ++k) {
+    const Part& part = m.parts[k];
+    ElementBlock b = internal::setup_block(part, int(k), m.materials[part.material], m.X.data(),
+                                           m.control.hourglass, m.name);
+    b.force_offset = off;
+    off += b.size() * b.nn * 3;
+    std::vector<double> edt = internal::element_dt(b, m.X.data());
+    std::vector<double> factor;
+    if (m.control.dt_target > 0 && !b.rigid) {
+      factor.assign(b.size(), 1.0);
+      for (std::size_t e = 0; e < b.size(); ++e) {
+        const double ok = m.control.dt_scale * edt[e];
+        if (ok < m.control.dt_target) factor[e] = (m.control.dt_target / ok) * (m.control.dt_target / ok);
+      }
+    }
+    for (std::size_t e = 0; e < b.size(); ++e) {
+      const double me = b.rho * b.vol[e];
+      const double f = factor.empty() ? 1.0 : factor[e];
+      s.added += me * (f - 1);
+      for (int a = 0; a < b.nn; ++a) s.mass[b.conn[e * b.nn + a]] += me * f / b.nn;
+      dt_min = std::min(dt_min, edt[e] * std::sqrt(f));
+    }
+    s.blocks.push_back(std::move(b));
+    s.mass_factor.push_back(std::move(factor));
+  }
+  s.fe.assign(off, 0.0);
+  // 2. Node → element-force incidences (fixed order: block, element, local node).
+  s.node_ptr.assign(s.n + 1, 0);
+  for (const auto& b : s.blocks)
+    if (!b.rigid)
+      for (int id : b.conn) s.node_ptr[id + 1]++;
+  for (std::size_t i = 0; i < s.n; ++i) s.node_ptr[i + 1] += s.node_ptr[i];
+  s.node_inc.assign(s.node_ptr[s.n], 0);
+  std::vector<long> fill(s.node_ptr.begin(), s.node_ptr.end() - 1);
+  for (const auto& b : s.blocks)
+    if (!b.rigid)
+      for (std::size_t k = 0; k < b.conn.size(); ++k)
+        s.node_inc[fill[b.conn[k]]++] = long(b.force_offset + 3 * k);
+  s.dt_stable = dt_min;
+  if (!std::isfinite(dt_min)) {
+    // only rigid parts: the step is bounded by contact / loads; take the target or 1e-3 ms
+    s.dt_stable = m.control.dt_target > 0 ? m.control.dt_target : 1e-3;
+  }
+  s.dt = m.control.dt_target > 0 ? m.control.dt_target : m.control.dt_scale * s.dt_stable;
+  s.fint.assign(3 * s.n, 0.0);
+  s.fext.assign(3 * s.n, 0.0);
+  s.fcon.assign(3 * s.n, 0.0);
+  s.reac.assign(3 * s.n, 0.0);
+  // 3. Constraints: ties, rigid bodies, boundary conditions.
+  std::vector<char> rigid_node(s.n, 0);
+  for (const auto& b : s.blocks)
+    if (b.rigid)
+      for (int id : b.conn) rigid_node[id] = 1;
+  s.con = internal::build_constraints(m, rigid_node, s.mass);
+  // 4. Initial velocities.
+  for (const auto& iv : m.initial_velocities)
+    for (int id : m.group(iv.group))
+      for (int i = 0; i < 3; ++i) s.v[3 * id + i] = iv.v[i];
+  internal::init_constraint_velocities(s.con, s.x, s.mass, s.v);
+  // 5. Contact pairs.
+  for (const auto& c : m.contacts) {
+    ContactSpec spec;
+    spec.name = c.name;
+    spec.slave_nodes = m.group(c.slave);
+    spec.master_tris = m.surface(c.master);
+    spec.penalty_scale = c.penalty_scale;
+    spec.damping_ratio = c.damping_ratio;
+    spec.friction = c.friction;
+    spec.two_sided = c.two_sided;
+    s.pairs.emplace_back(std::move(spec), s.n);
+  }
+}
+
+Solver::~Solver() = default;
+
+void Solver::step() {
+  Impl& s = *p_;
+  const Model& m = s.m;
+  const std::size_t n = s.n;
+  const double dt = s.dt, t = s.time;
+  // 1. Internal forces: per element, then gathered per node in a fixed order.
+  int inverted = 0;
+  for (const auto& b : s.blocks)
+    if (!b.rigid) inverted += internal::forces_for_elems(b, s.x.data(), s.fe.data());
+  const long nl = long(n);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < nl; ++i) {
+    double f0 = 0, f1 = 0, f2 = 0;
+    for (long k = s.node_ptr[i]; k < s.node_ptr[i + 1]; ++k) {
+      const double* f = &s.fe[s.node_inc[k]];
+      f0 += f[0]; f1 += f[1]; f2 += f[2];
+    }
+    s.fint[3 * i] = f0; s.fint[3 * i + 1] = f1; s.fint[3 * i + 2] = f2;
+  }
+  // 2. Loads and contact.
+  std::fill(s.fext.begin(), s.fext.end(), 0.0);
+  for (const auto& l : m.loads) {
+    const auto& g = m.group(l.group);
+    const double f = l.curve.at(t) / double(g.size());
+    for (int id : g) s.fext[3 * id + l.dof] += f;
+  }
+  std::fill(s.fcon.begin(), s.fcon.end(), 0.0);
+  double pen = 0;
+  for (auto& c : s.pairs) {
+    c.add_forces(s.x.data(), s.v.data(), s.mass.data(), dt, s.fcon.data());
+    pen = std::max(pen, c.max_penetration());
+  }
+  const double e_int_n = want_energy_ ? s.internal_energy() : 0.0;
+  // 3. Velocities and positions (constraints inside), energy bookkeeping.
+  std::vector<double> v_old = s.v;
+  internal::advance(s.con, m, s.X, s.mass, s.fint, s.fext, s.fcon, m.control.damping_alpha, t, dt, s.x, s.v,
+                    s.reac);
+  double ke = 0, wc = 0, wd = 0, we = 0;
+  const double alpha = m.control.damping_alpha;
+  bool finite = true;
+#pragma omp parallel for schedule(static) reduction(+ : ke, wc, wd, we) reduction(&& : finite)
+  for (long i = 0; i < nl; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      const std::size_t k = 3 * std::size_t(i) + d;
+      const double va = 0.5 * (v_old[k] + s.v[k]);
+      ke += 0.5 * s.mass[i] * va * va;
+      wc += s.fcon[k] * va * dt;
+      wd += alpha * s.mass[i] * va * va * dt;
+      we += (s.fext[k] + s.reac[k]) * va * dt;
+      finite = finite && std::isfinite(s.x[k]) && std::isfinite(s.v[k]);
+    }
+  }
+  s.en.time = t;
+  s.en.kinetic = ke;
+  if (want_energy_) {
+    // Energies at t_n: the works are centred (f_n · (x_{n+1} − x_{n−1})/2), so half of this step's
+    // increment belongs before t_n.
+    s.en.internal = e_int_n;
+    s.en.contact -= 0.5 * wc;
+    s.en.damping += 0.5 * wd;
+    s.en.external += 0.5 * we;
+    const double total = s.en.kinetic + s.en.internal + s.en.contact + s.en.damping - s.en.external;
+    if (!s.e_initial_set) { s.e_initial = total; s.e_initial_set = true; }
+    s.en.balance = total - s.e_initial;
+    s.en.contact -= 0.5 * wc;
+    s.en.damping += 0.5 * wd;
+    s.en.external += 0.5 * we;
+    want_energy_ = false;
+  } else {
+    s.en.contact -= wc;
+    s.en.damping += wd;
+    s.en.external += we;
+  }
+  s.time += dt;
+  s.step++;
+  // 4. Health and the periodic update of the stable step.
+  if (!finite) health_ = "non-finite position or velocity (NaN/Inf)";
+  else if (inverted > 0) health_ = std::to_string(inverted) + " element(s) inverted (J <= 0)";
+  else if (pen > m.control.penetration_tolerance)
+    health_ = "contact penetration " + std::to_string(pen) + " mm deeper than the tolerance " +
+              std::to_string(m.control.penetration_tolerance) + " mm";
+  if (m.control.dt_target <= 0 && s.step % m.control.dt_update_interval == 0 && health_.empty()) {
+    s.dt_stable = std::min(s.compute_stable_dt(), s.dt_stable * 1e6);
+    if (std::isfinite(s.dt_stable)) s.dt = m.control.dt_scale * s.dt_stable;
+  }
+}
+
+void Solver::run_until(double t) {
+  while (p_->time < t && health_.empty()) step();
+}
+
+const Model& Solver::model() const { return p_->m; }
+double Solver::time() const { return p_->time; }
+double Solver::dt() const { return p_->dt; }
+long Solver::steps() const { return p_->step; }
+double Solver::stable_dt() const { return p_->dt_stable; }
+double Solver::added_mass() const { return p_->added; }
+double Solver::total_mass() const { return std::accumulate(p_->mass.begin(), p_->mass.end(), 0.0); }
+const std::vector<double>& Solver::x() const { return p_->x; }
+const std::vector<double>& Solver::v() const { return p_->v; }
+const std::vector<double>& Solver::mass() const { return p_->mass; }
+const std::vector<double>& Solver::internal_force() const { return p_->fint; }
+const Energies& Solver::energies() const { return p_->en; }
+double Solver::internal_energy() const { return p_->internal_energy(); }
+const std::vector<ContactPair>& Solver::contacts() const { return p_->pairs; }
+
+std::vector<double> Solver::displacement() const {
+  std::vector<double> u(p_->x.size());
+  for (std::size_t k = 0; k < u.size(); ++k) u[k] = p_->x[k] - p_->X[k];
+  return u;
+}
+
+std::vector<double> Solver::von_mises() const {
+  const Impl& s = *p_;
+  std::vector<double> num(s.n, 0.0), den(s.n, 0.0);
+  for (const auto& b : s.blocks) {
+    if (b.rigid) continue;
+    std::vector<double> vm(b.size());
+    internal::von_mises_for_elems(b, s.x.data(), vm.data());
+    for (std::size_t e = 0; e < b.size(); ++e)
+      for (int a = 0; a < b.nn; ++a) {
+        num[b.conn[e * b.nn + a]] += vm[e] * b.vol[e];
+        den[b.conn[e * b.nn + a]] += b.vol[e];
+      }
+  }
+  for (std::size_t i = 0; i < s.n; ++i) num[i] = den[i] > 0 ? num[i] / den[i] : 0.0;
+  return num;
+}
+
+std::vector<double> Solver::contact_pressure() const {
+  std::vector<double> p(p_->n, 0.0);
+  for (const auto& c : p_->pairs)
+    for (std::size_t i = 0; i < p.size(); ++i) p[i] += c.pressure()[i];
+  return p;
+}
+
+std::vector<double> Solver::contact_shear() const {
+  std::vector<double> p(p_->n, 0.0);
+  for (const auto& c : p_->pairs)
+    for (std::size_t i = 0; i < p.size(); ++i) p[i] += c.shear()[i];
+  return p;
+}
+
+double Solver::max_penetration() const {
+  double d = 0;
+  for (const auto& c : p_->pairs) d = std::max(d, c.max_penetration());
+  return d;
+}
+
+std::array<double, 3> Solver::reaction(const std::string& group) const {
+  std::array<double, 3> r{0, 0, 0};
+  for (int id : p_->m.group(group))
+    for (int d = 0; d < 3; ++d) r[d] += p_->reac[3 * id + d];
+  return r;
+}
+
+std::array<double, 3> Solver::section_force(const std::string& group) const {
+  std::array<double, 3> r{0, 0, 0};
+  for (int id : p_->m.group(group))
+    for (int d = 0; d < 3; ++d) r[d] += p_->fint[3 * id + d];
+  return r;
+}
+
+SolverState Solver::state() const {
+  const Impl& s = *p_;
+  SolverState st;
+  st.time = s.time;
+  st.dt = s.dt;
+  st.step = s.step;
+  st.X = s.X;
+  st.x = s.x;
+  st.v = s.v;
+  st.rigid = internal::rigid_velocities(s.con);
+  st.e_contact = s.en.contact;
+  st.e_damping = s.en.damping;
+  st.w_external = s.en.external;
+  st.e_initial = s.e_initial;
+  st.e_initial_set = s.e_initial_set;
+  return st;
+}
+
+void Solver::set_state(const SolverState& st, bool reset_time, bool reset_velocity) {
+  Impl& s = *p_;
+  if (st.x.size() != 3 * s.n || st.v.size() != 3 * s.n || st.X.size() != 3 * s.n)
+    throw pipeline::bad_input(s.m.name, "restart state has " + std::to_string(st.x.size() / 3) +
+                                            " nodes, the model has " + std::to_string(s.n));
+  for (std::size_t k = 0; k < st.X.size(); ++k)
+    if (std::fabs(st.X[k] - s.X[k]) > 1e-9 * (1 + std::fabs(s.X[k])))
+      throw pipeline::bad_input(s.m.name, "restart state was written for another mesh (reference node " +
+                                              std::to_string(k / 3) + " differs)");
+  s.x = st.x;
+  s.v = st.v;
+  internal::set_rigid_velocities(s.con, s.x, st.rigid);
+  if (!reset_time) {
+    s.time = st.time;
+    s.step = st.step;
+    if (st.dt > 0) s.dt = st.dt;
+    s.en.contact = st.e_contact;
+    s.en.damping = st.e_damping;
+    s.en.external = st.w_external;
+    s.e_initial = st.e_initial;
+    s.e_initial_set = st.e_initial_set;
+  } else {
+    s.dt_stable = s.compute_stable_dt();
+    if (s.m.control.dt_target <= 0 && std::isfinite(s.dt_stable)) s.dt = s.m.control.dt_scale * s.dt_stable;
+  }
+  if (reset_velocity) {
+    std::fill(s.v.begin(), s.v.end(), 0.0);
+    internal::set_rigid_velocities(s.con, s.x, {});
+  }
+}
+
+}  // namespace solve
