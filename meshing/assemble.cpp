@@ -1,0 +1,198 @@
+// Placement of the respirator, the merged solver model and the solver decks.
+#include "meshing/assemble.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+#include "meshing/internal/assemble_geometry.h"
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+
+namespace meshing {
+namespace {
+
+using layering::Block;
+using layering::FeModel;
+using Tris = std::vector<std::array<int, 3>>;
+
+const Block& need(const FeModel& m, const std::string& name, const std::string& what) {
+  const Block* b = m.find(name);
+  if (!b) throw pipeline::bad_input(what, "no physical group \"" + name + "\"");
+  return *b;
+}
+
+// Nodes of the respirator rim: "respirator_rim" lines, or boundary edges of respirator_inner.
+std::vector<int> rim_nodes(const FeModel& resp) {
+  std::vector<int> out;
+  if (const Block* r = resp.find("respirator_rim")) {
+    out = r->conn;
+  } else {
+    const Block& in = need(resp, "respirator_inner", "respirator");
+    std::map<std::pair<int, int>, int> e;
+    for (std::size_t t = 0; t < in.size(); ++t)
+      for (int v = 0; v < 3; ++v) {
+        int a = in.conn[3 * t + v], b = in.conn[3 * t + (v + 1) % 3];
+        e[{std::min(a, b), std::max(a, b)}]++;
+      }
+    for (auto& [k, n] : e)
+      if (n == 1) out.insert(out.end(), {k.first, k.second});
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (out.empty()) throw pipeline::bad_input("respirator", "respirator_inner has no rim (closed surface?)");
+  return out;
+}
+
+// All respirator element faces as triangles (wedges: their 8 triangles; shells as they are).
+Tris body_triangles(const FeModel& m) {
+  Tris t;
+  for (const Block& b : m.blocks) {
+    for (std::size_t e = 0; e < b.size(); ++e) {
+      const int* v = &b.conn[e * b.nodes_per_elem];
+      if (b.nodes_per_elem == 3 && b.dim == 2) t.push_back({v[0], v[1], v[2]});
+      if (b.nodes_per_elem == 4 && b.dim == 2) t.push_back({v[0], v[1], v[2]}), t.push_back({v[0], v[2], v[3]});
+      if (b.nodes_per_elem == 6) {
+        t.push_back({v[0], v[1], v[2]});
+        t.push_back({v[3], v[4], v[5]});
+        for (auto [a, c, d, f] : {std::array<int, 4>{0, 1, 4, 3}, {1, 2, 5, 4}, {2, 0, 3, 5}})
+          t.push_back({v[a], v[c], v[d]}), t.push_back({v[a], v[d], v[f]});
+      }
+    }
+  }
+  return t;
+}
+
+double gap_with_shift(const FeModel& head, const internal::TriangleTree& head_tree, const FeModel& resp,
+                      const Eigen::Vector3d& s) {
+  double g = 1e300;
+  for (const auto& p : resp.nodes) g = std::min(g, head_tree.signed_distance(p + s));
+  FeModel moved = resp;
+  for (auto& p : moved.nodes) p += s;
+  internal::TriangleTree rt(moved.nodes, body_triangles(moved));
+  for (const auto& t : head_surface(head))
+    for (int v : t) g = std::min(g, rt.distance(head.nodes[v]));
+  return g;
+}
+
+}  // namespace
+
+std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
+  std::map<std::string, Eigen::Vector3d> out;
+  try {
+    const auto j = nlohmann::json::parse(pipeline::read_text(path));
+    for (auto& [name, v] : j.at("landmarks").items()) {
+      const auto& p = v.at("position");
+      out[name] = Eigen::Vector3d(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw pipeline::bad_input(path, std::string("not a landmarks file: ") + e.what());
+  }
+  for (const char* k : {"sellion", "menton"})
+    if (!out.count(k)) throw pipeline::bad_input(path, std::string("landmark ") + k + " missing");
+  return out;
+}
+
+Tris head_surface(const FeModel& head) {
+  Tris t;
+  const Block* skin = head.find("head_skin");
+  for (const Block& b : head.blocks)
+    if (b.dim == 2 && b.nodes_per_elem == 3 && (skin ? &b == skin : true))
+      for (std::size_t e = 0; e < b.size(); ++e) t.push_back({b.conn[3 * e], b.conn[3 * e + 1], b.conn[3 * e + 2]});
+  if (t.empty()) throw pipeline::bad_input("head", "no triangle group for the skin surface");
+  return t;
+}
+
+double respirator_gap(const FeModel& head, const FeModel& resp) {
+  internal::TriangleTree ht(head.nodes, head_surface(head));
+  return gap_with_shift(head, ht, resp, Eigen::Vector3d::Zero());
+}
+
+Eigen::Vector3d place_respirator(const FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
+                                 const FeModel& resp, const PlaceOptions& opt, double* gap_out) {
+  const std::vector<int> rim = rim_nodes(resp);
+  double xmin = 1e300, xmax = -1e300, ytop = -1e300;
+  for (int i : rim) {
+    xmin = std::min(xmin, resp.nodes[i].x());
+    xmax = std::max(xmax, resp.nodes[i].x());
+    ytop = std::max(ytop, resp.nodes[i].y());
+  }
+  Eigen::Vector3d s;
+  s.x() = 0.5 * (lm.at("sellion").x() + lm.at("menton").x()) - 0.5 * (xmin + xmax);
+  s.y() = lm.at("sellion").y() - opt.bridge_offset_mm - ytop;
+  double head_zmax = -1e300, resp_zmin = 1e300;
+  for (const auto& p : head.nodes) head_zmax = std::max(head_zmax, p.z());
+  for (const auto& p : resp.nodes) resp_zmin = std::min(resp_zmin, p.z());
+  internal::TriangleTree ht(head.nodes, head_surface(head));
+  // Far in front (gap > target), then step back until closer than the target, then bisect.
+  double far = head_zmax + opt.gap_mm + 5 - resp_zmin, near = far;
+  auto gap = [&](double z) { return gap_with_shift(head, ht, resp, Eigen::Vector3d(s.x(), s.y(), z)); };
+  for (int k = 0; k < 100 && gap(near) > opt.gap_mm; ++k) far = near, near -= 4.0;
+  if (gap(near) > opt.gap_mm)
+    throw pipeline::algorithm_failed("assemble", "the respirator never comes within the gap of the face");
+  for (int k = 0; k < 40 && far - near > 1e-3; ++k) {
+    const double mid = 0.5 * (far + near);
+    (gap(mid) > opt.gap_mm ? far : near) = mid;
+  }
+  s.z() = far;  // the side that keeps at least the gap
+  if (gap_out) *gap_out = gap(far);
+  return s;
+}
+
+FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& straps,
+                       const std::map<std::string, Eigen::Vector3d>& lm, const PlaceOptions& opt,
+                       AssembleReport* report) {
+  AssembleReport r;
+  r.shift = place_respirator(head, lm, resp, opt, &r.gap_mm);
+  FeModel out = head;
+  auto append = [&](const FeModel& m, const Eigen::Vector3d& shift, bool skip_attach) {
+    const int base = int(out.nodes.size());
+    for (const auto& p : m.nodes) out.nodes.push_back(p + shift);
+    for (Block b : m.blocks) {
+      if (skip_attach && b.dim == 0) continue;  // straps' attachment markers: replaced below
+      for (int& v : b.conn) v += base;
+      out.blocks.push_back(std::move(b));
+    }
+    return base;
+  };
+  const int rbase = append(resp, r.shift, false);
+  append(straps, Eigen::Vector3d::Zero(), true);
+  // Attachment points: the rim node nearest to each strap attachment marker.
+  const std::vector<int> rim = rim_nodes(resp);
+  for (const Block& b : straps.blocks) {
+    if (b.dim != 0 || b.size() != 1) continue;
+    const Eigen::Vector3d a = straps.nodes[b.conn[0]];
+    int best = rim[0];
+    for (int i : rim)
+      if ((resp.nodes[i] + r.shift - a).norm() < (resp.nodes[best] + r.shift - a).norm()) best = i;
+    std::string name = b.name;
+    if (name.rfind("strap_", 0) == 0) name = name.substr(6);  // strap_top_attach_left → top_attach_left
+    out.blocks.push_back(Block{"attach_" + name.substr(0, name.find("_attach")) + name.substr(name.find("_attach") + 7),
+                               0, 1, {rbase + best}});
+  }
+  // Checks: nothing of the straps inside the head, no two bodies' faces crossing.
+  internal::TriangleTree ht(head.nodes, head_surface(head));
+  r.strap_gap_mm = 1e300;
+  for (const auto& p : straps.nodes) r.strap_gap_mm = std::min(r.strap_gap_mm, ht.signed_distance(p));
+  FeModel check;
+  check.nodes = out.nodes;
+  check.blocks.push_back(Block{"head", 2, 3, {}});
+  for (const auto& t : head_surface(head)) check.blocks[0].conn.insert(check.blocks[0].conn.end(), t.begin(), t.end());
+  for (std::size_t i = head.blocks.size(); i < out.blocks.size(); ++i)
+    if (out.blocks[i].dim >= 2) check.blocks.push_back(out.blocks[i]);
+  r.intersecting_pairs = layering::count_intersecting_faces(check);
+  for (const Block& b : out.blocks) {
+    if (b.nodes_per_elem == 6) r.wedges += b.size();
+    if (b.nodes_per_elem == 4) r.quads += b.size();
+  }
+  r.nodes = out.nodes.size();
+  if (report) *report = r;
+  if (r.intersecting_pairs || r.gap_mm < opt.gap_mm - 0.01 || r.strap_gap_mm <= 0)
+    throw pipeline::algorithm_failed("assemble", "initial penetration: " + std::to_string(r.intersecting_pairs) +
+                                                     " face pairs intersect, gap " + std::to_string(r.gap_mm) +
+                                                     " mm, strap gap " + std::to_string(r.strap_gap_mm) + " mm");
+  return out;
+}
+
+}  // namespace meshing

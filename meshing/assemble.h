@@ -1,0 +1,64 @@
+#pragma once
+/// Positions the respirator on the head (paper: symmetry plane on the sagittal plane, vertical plane
+/// parallel to the coronal plane, 3 mm minimum gap; vertical position from the landmarks) and puts
+/// head, respirator and straps into one solver model plus the two solver decks (solve/README.md).
+#include <Eigen/Core>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "layering/layers.h"
+
+namespace meshing {
+
+/// Landmark name → position [mm] (landmarks JSON of the pipeline). @throws Error(bad_input) naming
+/// the file if unreadable or if sellion or menton is missing.
+std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
+
+struct PlaceOptions {
+  double gap_mm = 3.0;            ///< minimum distance respirator–skin [mm], > 0
+  double bridge_offset_mm = 5.0;  ///< rim top this far below the sellion (seal over the nasal bridge) [mm]
+};
+
+/// Translation [mm] to add to every respirator node. No rotation: the respirator and the head come
+/// in the canonical frame (x lateral, y up, z out of the face), so the respirator's vertical plane
+/// is already parallel to the coronal plane. x: rim's symmetry plane onto the sagittal plane of
+/// sellion/menton; y: rim top at sellion − bridge_offset; z: bisection until the minimum
+/// respirator–skin distance equals gap_mm (±0.01 mm).
+/// @param head  model with a "head_skin" triangle group (outward) or triangle groups of parts
+/// @param resp  model with a "respirator_inner" group (and "respirator_rim" lines if layered)
+/// @param gap_out  measured minimum gap after placement [mm]
+/// @throws Error(bad_input) missing groups; Error(algorithm) if no placement reaches the gap.
+Eigen::Vector3d place_respirator(const layering::FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
+                                 const layering::FeModel& resp, const PlaceOptions& opt, double* gap_out);
+
+/// Minimum distance between the respirator (all its nodes, all its element faces) and the head skin
+/// [mm]; negative if a respirator node lies inside the head.
+double respirator_gap(const layering::FeModel& head, const layering::FeModel& resp);
+
+/// Triangles (outward) of the head's contact surface: "head_skin", or every triangle group.
+std::vector<std::array<int, 3>> head_surface(const layering::FeModel& head);
+
+struct AssembleReport {
+  Eigen::Vector3d shift{0, 0, 0};  ///< applied to the respirator [mm]
+  double gap_mm = 0;               ///< measured respirator–skin gap after placement
+  double strap_gap_mm = 0;         ///< minimum strap node distance to the skin
+  std::size_t intersecting_pairs = 0;  ///< element faces of different bodies intersecting (0 required)
+  std::size_t wedges = 0, quads = 0, nodes = 0;
+};
+
+/// Merges head layers, the placed respirator layers and the straps (already in the head frame) into
+/// one model; adds point groups attach_<strap>_<side> on the respirator rim nodes nearest to the
+/// straps' attachment points. @throws Error(algorithm) if any two bodies intersect after placement.
+layering::FeModel assemble_model(const layering::FeModel& head, const layering::FeModel& resp,
+                                 const layering::FeModel& straps, const std::map<std::string, Eigen::Vector3d>& lm,
+                                 const PlaceOptions& opt, AssembleReport* report);
+
+/// Solver deck (solve/README.md) for stage 1 (strap wrapping, head and respirator fixed, strap ends
+/// pulled to the attachment points in 0–100 ms, held to 200 ms) or stage 2 (respirator released,
+/// straps tied to it, bone and back of head fixed, 0–150 ms, starts from stage 1's state).
+/// @param materials  parsed data/materials.json
+nlohmann::json make_deck(const layering::FeModel& model, const nlohmann::json& materials, int stage,
+                         double strap_thickness_mm, const std::string& stage1_state);
+
+}  // namespace meshing

@@ -1,0 +1,91 @@
+// meshing::make_deck: the two solver decks of the paper's simulation (solve/README.md format).
+#include <Eigen/Geometry>
+
+#include "meshing/assemble.h"
+#include "pipeline/error.h"
+
+namespace meshing {
+
+nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, int stage, double strap_t,
+                         const std::string& stage1_state) {
+  using nlohmann::json;
+  json d;
+  d["materials"] = json::object();
+  for (auto& [k, v] : mat.at("materials").items())
+    if (k[0] != '_') {
+      json x = {{"density", v.at("density")}, {"E", v.at("E")}, {"nu", v.at("nu")}};
+      if (v.value("rigid", false)) x["rigid"] = true;
+      d["materials"][k] = x;
+    }
+  // Part groups: "<part>_<tissue>" wedges of the head, respirator layers, straps, back of head.
+  auto material_of = [&](const std::string& g) -> std::string {
+    if (g == "respirator_seal") return "seal_layer";
+    if (g == "respirator_outer") return "outer_layer";
+    if (g == "back_of_head") return "back_of_head";
+    if (g == "strap_top" || g == "strap_bottom") return "strap";
+    const auto u = g.rfind('_');
+    return u == std::string::npos ? "" : g.substr(u + 1);
+  };
+  json parts = json::array(), fixed = json::array(), presc = json::array(), ties = json::array();
+  std::vector<std::string> bones, head_parts, resp_parts;
+  for (const auto& b : m.blocks) {
+    const bool solid = b.dim == 3, shell = b.dim == 2 && (b.name == "back_of_head" || b.name.rfind("strap_", 0) == 0);
+    if (!solid && !shell) continue;
+    const std::string mt = material_of(b.name);
+    if (!d["materials"].contains(mt))
+      throw pipeline::bad_input("model", "group " + b.name + ": no material \"" + mt + "\" in materials.json");
+    json p = {{"group", b.name}, {"material", mt}};
+    if (shell) p["thickness"] = b.name == "back_of_head" ? 1.0 : strap_t;
+    parts.push_back(p);
+    if (mt == "bone" || b.name == "back_of_head") bones.push_back(b.name);
+    else if (b.name.rfind("respirator_", 0) == 0) resp_parts.push_back(b.name);
+    else if (b.name.rfind("strap_", 0) != 0) head_parts.push_back(b.name);
+  }
+  d["parts"] = parts;
+  for (const auto& g : bones) fixed.push_back({{"group", g}, {"dofs", "xyz"}});
+  json contact = json::array();
+  for (const char* s : {"strap_top", "strap_bottom"})
+    if (m.find(s)) contact.push_back({{"name", std::string(s) + "_on_head"}, {"slave", s}, {"master", "head_skin"}});
+  const double alpha = mat.contains("damping") ? mat["damping"].value("stage1_alpha_per_ms", 0.5) : 0.5;
+  if (stage == 1) {
+    // Head and respirator held; each strap end moves with constant velocity to its attachment
+    // point in 0–100 ms and stays there to 200 ms (paper Fig. 6).
+    for (const auto& g : head_parts) fixed.push_back({{"group", g}, {"dofs", "xyz"}});
+    for (const auto& g : resp_parts) fixed.push_back({{"group", g}, {"dofs", "xyz"}});
+    for (const char* s : {"top", "bottom"})
+      for (const char* side : {"left", "right"}) {
+        const auto* end = m.find(std::string("strap_") + s + "_end_" + side);
+        const auto* att = m.find(std::string("attach_") + s + "_" + side);
+        if (!end || !att) continue;
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (int v : end->conn) c += m.nodes[v] / double(end->conn.size());
+        const Eigen::Vector3d delta = m.nodes[att->conn[0]] - c;
+        for (int k = 0; k < 3; ++k)
+          presc.push_back({{"group", end->name}, {"type", "displacement"}, {"dof", std::string(1, "xyz"[k])},
+                           {"curve", {{0.0, 0.0}, {100.0, delta[k]}, {200.0, delta[k]}}}});
+      }
+    d["prescribed"] = presc;
+    d["control"] = {{"end_time", 200.0}, {"damping_alpha", alpha}, {"output_interval", 20.0}};
+    d["output"] = {{"history_groups", json::array()}};
+    for (const auto& p : presc) d["output"]["history_groups"].push_back(p["group"]);
+  } else {
+    // Respirator released, straps tied to it at the attachment points; bone and back of head fixed.
+    for (const char* s : {"top", "bottom"})
+      for (const char* side : {"left", "right"}) {
+        const std::string end = std::string("strap_") + s + "_end_" + side, att = std::string("attach_") + s + "_" + side;
+        if (m.find(end) && m.find(att))
+          ties.push_back({{"name", end + "_to_respirator"}, {"group_a", end}, {"group_b", att}, {"tolerance", 5.0}});
+      }
+    d["ties"] = ties;
+    contact.push_back({{"name", "respirator_on_face"}, {"slave", "respirator_inner"}, {"master", "head_skin"}});
+    d["initial_state"] = {{"file", stage1_state}, {"reset_time", true}, {"reset_velocity", true}};
+    d["control"] = {{"end_time", 150.0}, {"damping_alpha", alpha}, {"output_interval", 10.0}};
+    d["output"] = {{"history_groups", json::array()}};
+    for (const auto& t : ties) d["output"]["history_groups"].push_back(t["group_a"]);
+  }
+  d["fixed"] = fixed;
+  d["contact"] = contact;
+  return d;
+}
+
+}  // namespace meshing

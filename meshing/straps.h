@@ -1,0 +1,44 @@
+#pragma once
+/// Two respirator straps as bands of 4-node quadrilateral shells laid on the head (paper: top strap
+/// high on the back of the head (occiput), bottom strap around the neck below the ears), each end
+/// near its attachment point on the placed respirator's rim.
+///
+/// Defaults (assumptions, documented in meshing/README.md): length 300 mm unstretched for both
+/// straps (the paper: "the two straps have the same lengths", measured but not reported; braided
+/// N95 headbands are cut to roughly 28–33 cm), width 6 mm, thickness 1 mm (flat braided/elastic
+/// N95 straps are ~5–7 mm wide, ~0.8–1.2 mm thick).
+#include <map>
+#include <string>
+
+#include "layering/layers.h"
+#include "meshing/assemble.h"
+
+namespace meshing {
+
+struct StrapOptions {
+  double length_mm = 300;     ///< unstretched length of each strap along its centre line [mm], (50, 1000)
+  double width_mm = 6;        ///< band width [mm], (1, 30)
+  double thickness_mm = 1;    ///< shell thickness [mm] (written to the deck by assemble)
+  double element_mm = 3;      ///< target element length along the strap [mm]
+  double gap_mm = 1;          ///< minimum distance of the band's mid-surface to the skin [mm] (+ half the thickness)
+  double top_above_sellion_mm = 25;   ///< height of the top strap at the back, above the sellion [mm]
+  double bottom_below_menton_mm = 5;  ///< height of the bottom strap at the back of the neck, below the menton
+  PlaceOptions place;         ///< where assemble puts the respirator (attachment points follow it)
+};
+
+struct StrapReport {
+  double top_length = 0, bottom_length = 0;  ///< measured centre-line lengths [mm]
+  double min_gap = 0;                        ///< minimum signed distance of any strap node to the skin [mm]
+  std::size_t quads = 0;
+};
+
+/// Lays both straps. The strap plane passes through the two attachment points and a point on the
+/// back of the head; the strap follows the head's outline in that plane (AABB-tree ray casts), is
+/// lifted to keep `gap_mm + thickness/2` off the skin, and is centred on the back of the head.
+/// @return groups strap_top, strap_bottom (quads), strap_<s>_end_<side> (2-node lines across each end),
+///   strap_<s>_attach_<side> (one point each: the attachment point on the placed rim); side left = +x.
+/// @throws Error(bad_input) if a strap is longer than the head's outline between its attachments.
+layering::FeModel make_straps(const layering::FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
+                              const layering::FeModel& resp, const StrapOptions& opt, StrapReport* report);
+
+}  // namespace meshing

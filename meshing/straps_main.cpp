@@ -1,0 +1,40 @@
+// straps — lays the two respirator straps (4-node quad shell bands) on the head.
+//
+// Inputs:  --head layers.msh or surface.msh (head), --landmarks landmarks.json,
+//          --respirator respirator layers.msh (groups respirator_inner, respirator_rim)
+// Outputs: --out straps.msh (groups strap_top, strap_bottom, strap_*_end_*, strap_*_attach_*)
+// Sample run:
+//   straps --head head/layers.msh --landmarks head/landmarks.json --respirator respirator/layers.msh --out straps.msh
+#include "layering/layers.h"
+#include "meshing/straps.h"
+#include "pipeline/cli.h"
+#include "pipeline/progress.h"
+
+int main(int argc, char** argv) {
+  std::string head, landmarks, resp, out;
+  meshing::StrapOptions opt;
+  pipeline::Cli cli("straps", "Lays the top and bottom respirator straps on the head.");
+  cli.option("-H", "--head", &head, "head model (.msh)", pipeline::required)
+      .option("-l", "--landmarks", &landmarks, "landmarks JSON", pipeline::required)
+      .option("-r", "--respirator", &resp, "respirator layers (.msh)", pipeline::required)
+      .option("-o", "--out", &out, "output straps (.msh)", pipeline::required)
+      .option("-L", "--length-mm", &opt.length_mm, "unstretched strap length [mm]", 50, 1000)
+      .option("-w", "--width-mm", &opt.width_mm, "strap width [mm]", 1, 30)
+      .option("-t", "--thickness-mm", &opt.thickness_mm, "strap thickness [mm]", 0.1, 5)
+      .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20);
+  return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::log("straps", cli.resolved());
+    // 1. Load.
+    const auto h = layering::read_fe_model(head);
+    const auto lm = meshing::read_landmarks(landmarks);
+    const auto r = layering::read_fe_model(resp);
+    // 2. Lay the straps.
+    meshing::StrapReport rep;
+    const auto straps = meshing::make_straps(h, lm, r, opt, &rep);
+    // 3. Write.
+    layering::write_fe_model(straps, out);
+    std::printf("straps: %s: %zu quads, top %.1f mm, bottom %.1f mm, min distance to skin %.2f mm\n", out.c_str(),
+                rep.quads, rep.top_length, rep.bottom_length, rep.min_gap);
+    return 0;
+  });
+}

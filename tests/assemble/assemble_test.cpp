@@ -1,0 +1,116 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "../layers/layers_fixtures.h"
+#include "layering/layers.h"
+#include "meshing/assemble.h"
+#include "meshing/straps.h"
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+
+namespace {
+
+const std::string kMaterials = std::string(SOURCE_DIR) + "/data/materials.json";
+
+// The layered NIOSH medium head, the layered dome respirator, landmarks: built once for all tests.
+struct Scene {
+  layering::FeModel head, resp;
+  std::map<std::string, Eigen::Vector3d> lm;
+  std::string landmarks_path;
+  Scene() {
+    const auto surface = fixtures::niosh_surface(std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl", 4.0);
+    head = layering::build_layers(surface, layering::read_stacks(kMaterials, "head"), {}, nullptr);
+    layering::LayerOptions ro;
+    ro.kind = "respirator";
+    resp = layering::build_layers(fixtures::dome_respirator(), layering::read_stacks(kMaterials, "respirator"), ro, nullptr);
+    landmarks_path = (std::filesystem::temp_directory_path() / "assemble_test_landmarks.json").string();
+    pipeline::write_text_atomic(landmarks_path, fixtures::niosh_landmarks(surface).dump(2));
+    lm = meshing::read_landmarks(landmarks_path);
+  }
+};
+Scene& scene() {
+  static Scene s;
+  return s;
+}
+
+}  // namespace
+
+TEST(place_respirator, gap_is_3mm_measured_and_symmetric) {
+  auto& s = scene();
+  double gap = 0;
+  const Eigen::Vector3d shift = meshing::place_respirator(s.head, s.lm, s.resp, {}, &gap);
+  layering::FeModel moved = s.resp;
+  for (auto& p : moved.nodes) p += shift;
+  const double measured = meshing::respirator_gap(s.head, moved);
+  std::printf("respirator shift (%.2f, %.2f, %.2f) mm, gap %.3f mm\n", shift.x(), shift.y(), shift.z(), measured);
+  // Bisection stops within 1e-3 mm of the target; measurement is node-to-surface both ways.
+  EXPECT_NEAR(measured, 3.0, 0.02);
+  EXPECT_GE(measured, 3.0 - 1e-6);
+  EXPECT_NEAR(shift.x(), s.lm.at("sellion").x(), 1.0);  // dome is symmetric about x = 0
+}
+
+TEST(make_straps, straps_have_requested_length_and_stay_off_the_skin) {
+  auto& s = scene();
+  for (double len : {280.0, 320.0}) {
+    meshing::StrapOptions o;
+    o.length_mm = len;
+    meshing::StrapReport rep;
+    const auto st = meshing::make_straps(s.head, s.lm, s.resp, o, &rep);
+    std::printf("straps %g mm: top %.1f, bottom %.1f mm, %zu quads, min gap %.2f mm\n", len, rep.top_length,
+                rep.bottom_length, rep.quads, rep.min_gap);
+    // 2 %: pushing nodes off the skin where the head curves across the band lengthens the line slightly.
+    EXPECT_NEAR(rep.top_length, len, 0.02 * len);
+    EXPECT_NEAR(rep.bottom_length, len, 0.02 * len);
+    EXPECT_GT(rep.min_gap, 0.0);
+    // Top strap is high on the back of the head, bottom strap below the ears.
+    const auto& top = *st.find("strap_top");
+    const auto& bottom = *st.find("strap_bottom");
+    const Eigen::Vector3d tmid = st.nodes[top.conn[4 * (top.size() / 2)]], bmid = st.nodes[bottom.conn[4 * (bottom.size() / 2)]];
+    EXPECT_GT(tmid.y(), s.lm.at("tragion_left").y());
+    EXPECT_LT(bmid.y(), s.lm.at("tragion_left").y());
+    EXPECT_LT(tmid.z(), 0.0);
+    EXPECT_LT(bmid.z(), 0.0);
+  }
+  meshing::StrapOptions too_long;
+  too_long.length_mm = 990;
+  EXPECT_THROW(meshing::make_straps(s.head, s.lm, s.resp, too_long, nullptr), pipeline::Error);
+}
+
+TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
+  auto& s = scene();
+  const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
+  meshing::AssembleReport rep;
+  const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, &rep);
+  std::printf("assembled: %zu nodes, %zu wedges, %zu quads, gap %.3f mm, strap gap %.2f mm, %zu crossings\n", rep.nodes,
+              rep.wedges, rep.quads, rep.gap_mm, rep.strap_gap_mm, rep.intersecting_pairs);
+  EXPECT_EQ(rep.intersecting_pairs, 0u);
+  EXPECT_GE(rep.gap_mm, 3.0 - 1e-6);
+  EXPECT_GT(rep.strap_gap_mm, 0.0);
+  for (const char* g : {"head_skin", "respirator_inner", "respirator_seal", "respirator_outer", "strap_top",
+                        "strap_bottom", "strap_top_end_left", "strap_bottom_end_right", "attach_top_left",
+                        "attach_bottom_right", "forehead_bone", "back_of_head", "left_cheek_fat"})
+    EXPECT_NE(model.find(g), nullptr) << g;
+  const auto dir = std::filesystem::temp_directory_path() / "assemble_test";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "model.msh").string();
+  layering::write_fe_model(model, path);
+  const auto mat = nlohmann::json::parse(pipeline::read_text(kMaterials));
+  const auto d1 = meshing::make_deck(model, mat, 1, 1.0, ""), d2 = meshing::make_deck(model, mat, 2, 1.0, "stage1/state.bin");
+  // Every group a deck names exists in the model (the solver rejects the deck otherwise).
+  for (const auto* d : {&d1, &d2}) {
+    for (const auto& p : (*d)["parts"]) EXPECT_NE(model.find(p["group"]), nullptr) << p;
+    for (const auto& p : (*d)["fixed"]) EXPECT_NE(model.find(p["group"]), nullptr) << p;
+    for (const auto& c : (*d)["contact"]) EXPECT_NE(model.find(c["slave"]), nullptr) << c;
+  }
+  EXPECT_EQ(d1["prescribed"].size(), 12u);  // 4 strap ends × 3 directions
+  EXPECT_EQ(d2["ties"].size(), 4u);
+  // Opens in gmsh (our reader is gmsh's) and in meshio.
+  const auto back = layering::read_fe_model(path);
+  EXPECT_EQ(back.nodes.size(), model.nodes.size());
+  const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + path +
+                          "'); t = {c.type for c in m.cells}; assert {'wedge', 'quad', 'triangle'} <= t, t\"";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+}
