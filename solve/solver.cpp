@@ -12,6 +12,7 @@
 namespace solve {
 
 using internal::ElementBlock;
+using internal::kMinParallel;
 
 struct Solver::Impl {
   Model m;
@@ -141,7 +142,7 @@ void Solver::step() {
   for (const auto& b : s.blocks)
     if (!b.rigid) inverted += internal::forces_for_elems(b, s.x.data(), s.fe.data());
   const long nl = long(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nl > kMinParallel)
   for (long i = 0; i < nl; ++i) {
     double f0 = 0, f1 = 0, f2 = 0;
     for (long k = s.node_ptr[i]; k < s.node_ptr[i + 1]; ++k) {
@@ -171,7 +172,7 @@ void Solver::step() {
   double ke = 0, wc = 0, wd = 0, we = 0;
   const double alpha = m.control.damping_alpha;
   bool finite = true;
-#pragma omp parallel for schedule(static) reduction(+ : ke, wc, wd, we) reduction(&& : finite)
+#pragma omp parallel for schedule(static) if (nl > kMinParallel) reduction(+ : ke, wc, wd, we) reduction(&& : finite)
   for (long i = 0; i < nl; ++i) {
     for (int d = 0; d < 3; ++d) {
       const std::size_t k = 3 * std::size_t(i) + d;

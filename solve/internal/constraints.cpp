@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "pipeline/error.h"
+#include "solve/internal/elements.h"
 
 namespace solve::internal {
 namespace {
@@ -150,7 +151,7 @@ void advance(Constraints& c, const Model& m, const std::vector<double>& X, const
   };
   // 1. Free nodes (the bulk): parallel, independent per node.
   const long nf = long(c.free_nodes.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nf > kMinParallel)
   for (long q = 0; q < nf; ++q) {
     const int i = c.free_nodes[q];
     for (int d = 0; d < 3; ++d) {

@@ -121,7 +121,7 @@ int solid_forces(const ElementBlock& blk, const double* x, double* fe) {
   const double* B = blk.b.data();
   const double* G = blk.gamma.data();
   int inverted = 0;
-#pragma omp parallel for schedule(static) reduction(+ : inverted)
+#pragma omp parallel for schedule(static) if (ne > kMinParallel) reduction(+ : inverted)
   for (long e = 0; e < ne; ++e) {
     double xe[NN][3];
     for (int a = 0; a < NN; ++a) {
@@ -181,7 +181,7 @@ int membrane_forces(const ElementBlock& blk, const double* x, double* fe) {
   const long ne = long(blk.size());
   const double D = blk.E / (1 - blk.nu * blk.nu), G2 = blk.E / (1 + blk.nu), nu = blk.nu;
   int inverted = 0;
-#pragma omp parallel for schedule(static) reduction(+ : inverted)
+#pragma omp parallel for schedule(static) if (ne > kMinParallel) reduction(+ : inverted)
   for (long e = 0; e < ne; ++e) {
     double xe[NN][3];
     for (int a = 0; a < NN; ++a) {
@@ -340,7 +340,7 @@ int forces_for_elems(const ElementBlock& blk, const double* x, double* fe) {
 double energy_for_elems(const ElementBlock& blk, const double* x) {
   const long ne = long(blk.size());
   double w = 0;
-#pragma omp parallel for schedule(static) reduction(+ : w)
+#pragma omp parallel for schedule(static) if (ne > kMinParallel) reduction(+ : w)
   for (long e = 0; e < ne; ++e) {
     double F[3][3];
     mean_F(blk, e, x, F);
@@ -367,7 +367,7 @@ double energy_for_elems(const ElementBlock& blk, const double* x) {
 
 void von_mises_for_elems(const ElementBlock& blk, const double* x, double* vm) {
   const long ne = long(blk.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (ne > kMinParallel)
   for (long e = 0; e < ne; ++e) {
     double F[3][3];
     mean_F(blk, e, x, F);
@@ -432,7 +432,7 @@ double stable_dt_for_elems(const ElementBlock& blk, const double* x, const std::
   if (blk.rigid) return dtmin;
   const long ne = long(blk.size());
   const int nn = blk.nn, d = blk.dim;
-#pragma omp parallel for schedule(static) reduction(min : dtmin)
+#pragma omp parallel for schedule(static) if (ne > kMinParallel) reduction(min : dtmin)
   for (long e = 0; e < ne; ++e) {
     double F[3][3];
     mean_F(blk, e, x, F);

@@ -23,6 +23,10 @@
 
 namespace solve::internal {
 
+/// Loops shorter than this run on one thread: on small models the fork/join cost of an OpenMP
+/// region (and waiting for a descheduled thread on a busy machine) exceeds the work.
+constexpr long kMinParallel = 2048;
+
 struct ElementBlock {
   ElementType type = ElementType::wedge6;
   int part = -1;

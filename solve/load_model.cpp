@@ -1,0 +1,352 @@
+#include "solve/load_model.h"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include <gmsh.h>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+#include "solve/internal/gmsh_init.h"
+
+namespace solve {
+namespace {
+
+using json = nlohmann::json;
+
+// Outward faces of the solids (gmsh node orderings; checked on the reference elements).
+const std::vector<std::vector<int>>& solid_faces(ElementType t) {
+  static const std::vector<std::vector<int>> tet = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  static const std::vector<std::vector<int>> hex = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                                    {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  static const std::vector<std::vector<int>> wedge = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {1, 2, 5, 4}, {2, 0, 3, 5}};
+  return t == ElementType::tet4 ? tet : t == ElementType::hex8 ? hex : wedge;
+}
+
+void add_polygon(std::vector<std::array<int, 3>>& tris, const std::vector<int>& f) {
+  tris.push_back({f[0], f[1], f[2]});
+  if (f.size() == 4) tris.push_back({f[0], f[2], f[3]});
+}
+
+// Boundary faces (appearing once) of the solid parts of a group.
+std::vector<std::array<int, 3>> boundary_of(const std::vector<const Part*>& parts) {
+  std::map<std::vector<int>, std::pair<int, std::vector<int>>> faces;
+  for (const Part* p : parts) {
+    const int nn = nodes_per_element(p->type);
+    for (std::size_t e = 0; e < p->size(); ++e)
+      for (const auto& lf : solid_faces(p->type)) {
+        std::vector<int> f;
+        for (int a : lf) f.push_back(p->conn[e * nn + a]);
+        std::vector<int> key = f;
+        std::sort(key.begin(), key.end());
+        auto& entry = faces[key];
+        entry.first++;
+        entry.second = f;
+      }
+  }
+  std::vector<std::array<int, 3>> tris;
+  for (const auto& [key, entry] : faces)
+    if (entry.first == 1) add_polygon(tris, entry.second);
+  return tris;
+}
+
+bool gmsh_type(int t, ElementType* out) {
+  switch (t) {
+    case 2: *out = ElementType::tri3; return true;
+    case 3: *out = ElementType::quad4; return true;
+    case 4: *out = ElementType::tet4; return true;
+    case 5: *out = ElementType::hex8; return true;
+    case 6: *out = ElementType::wedge6; return true;
+  }
+  return false;
+}
+
+// ---- deck helpers: every error names the deck and the key ----
+struct Deck {
+  const json& j;
+  std::string name;
+  pipeline::Error bad(const std::string& what) const { return pipeline::bad_input(name, what); }
+};
+
+double num(const Deck& d, const json& o, const std::string& key, const std::string& where, double def, bool required) {
+  if (!o.contains(key)) {
+    if (required) throw d.bad(where + ": missing '" + key + "'");
+    return def;
+  }
+  if (!o[key].is_number()) throw d.bad(where + "." + key + ": expected a number");
+  return o[key].get<double>();
+}
+std::string str(const Deck& d, const json& o, const std::string& key, const std::string& where) {
+  if (!o.contains(key) || !o[key].is_string()) throw d.bad(where + ": missing or non-string '" + key + "'");
+  return o[key].get<std::string>();
+}
+bool flag(const Deck& d, const json& o, const std::string& key, const std::string& where, bool def) {
+  if (!o.contains(key)) return def;
+  if (!o[key].is_boolean()) throw d.bad(where + "." + key + ": expected true or false");
+  return o[key].get<bool>();
+}
+int dof_of(const Deck& d, const std::string& s, const std::string& where) {
+  if (s == "x") return 0;
+  if (s == "y") return 1;
+  if (s == "z") return 2;
+  throw d.bad(where + ".dof: expected \"x\", \"y\" or \"z\", got \"" + s + "\"");
+}
+Curve curve_of(const Deck& d, const json& o, const std::string& where) {
+  if (!o.contains("curve") || !o["curve"].is_array() || o["curve"].empty())
+    throw d.bad(where + ": missing 'curve' ([[t, value], ...])");
+  Curve c;
+  for (const auto& p : o["curve"]) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+      throw d.bad(where + ".curve: each point must be [t, value]");
+    const double t = p[0].get<double>();
+    if (!c.t.empty() && t < c.t.back()) throw d.bad(where + ".curve: times must not decrease");
+    c.t.push_back(t);
+    c.value.push_back(p[1].get<double>());
+  }
+  return c;
+}
+const json& array_of(const Deck& d, const std::string& key) {
+  static const json empty = json::array();
+  if (!d.j.contains(key)) return empty;
+  if (!d.j[key].is_array()) throw d.bad("'" + key + "' must be an array");
+  return d.j[key];
+}
+
+}  // namespace
+
+Model read_msh(const std::string& path) {
+  {
+    std::ifstream probe(path);
+    if (!probe) throw pipeline::bad_input(path, "cannot open the mesh file");
+  }
+  Model m;
+  m.name = path;
+  internal::ensure_gmsh();
+  gmsh::option::setNumber("General.Terminal", 0);
+  gmsh::logger::start();
+  try {
+    gmsh::clear();
+    gmsh::open(path);
+    std::vector<std::size_t> tags;
+    std::vector<double> coord, param;
+    gmsh::model::mesh::getNodes(tags, coord, param, -1, -1, false, false);
+    if (tags.empty()) throw pipeline::bad_input(path, "no nodes (not a gmsh mesh?)");
+    std::map<std::size_t, int> index;
+    for (std::size_t i = 0; i < tags.size(); ++i) {
+      if (index.count(tags[i])) continue;  // nodes on shared entities may be listed once per entity
+      index[tags[i]] = int(m.node_tags.size());
+      m.node_tags.push_back(long(tags[i]));
+      m.X.insert(m.X.end(), coord.begin() + 3 * i, coord.begin() + 3 * i + 3);
+    }
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups);
+    if (groups.empty()) throw pipeline::bad_input(path, "no physical groups: the solver addresses the mesh by named groups");
+    for (const auto& [dim, tag] : groups) {
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      if (name.empty()) name = std::to_string(dim) + ":" + std::to_string(tag);  // unnamed: "dim:tag"
+      std::vector<int> ents;
+      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, ents);
+      auto& nodes = m.node_groups[name];
+      for (int ent : ents) {
+        std::vector<int> types;
+        std::vector<std::vector<std::size_t>> etags, enodes;
+        gmsh::model::mesh::getElements(types, etags, enodes, dim, ent);
+        for (std::size_t k = 0; k < types.size(); ++k) {
+          std::vector<int> conn;
+          for (std::size_t t : enodes[k]) {
+            auto it = index.find(t);
+            if (it == index.end()) throw pipeline::bad_input(path, "element refers to unknown node " + std::to_string(t));
+            conn.push_back(it->second);
+          }
+          nodes.insert(nodes.end(), conn.begin(), conn.end());
+          ElementType et;
+          if ((dim == 2 || dim == 3) && gmsh_type(types[k], &et)) {
+            Part p;
+            p.name = name;
+            p.type = et;
+            p.conn = std::move(conn);
+            m.parts.push_back(std::move(p));
+          }
+        }
+      }
+      std::sort(nodes.begin(), nodes.end());
+      nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    }
+  } catch (const std::string& e) {
+    gmsh::logger::stop();
+    throw pipeline::bad_input(path, "gmsh cannot read it: " + e);
+  }
+  gmsh::logger::stop();
+  // Surfaces: 2D elements of a group; else the boundary of its 3D elements.
+  std::map<std::string, std::vector<const Part*>> solids;
+  for (const auto& p : m.parts) {
+    if (is_membrane(p.type)) {
+      const int nn = nodes_per_element(p.type);
+      for (std::size_t e = 0; e < p.size(); ++e)
+        add_polygon(m.surfaces[p.name], std::vector<int>(p.conn.begin() + e * nn, p.conn.begin() + (e + 1) * nn));
+    } else {
+      solids[p.name].push_back(&p);
+    }
+  }
+  for (const auto& [name, parts] : solids)
+    if (!m.surfaces.count(name)) m.surfaces[name] = boundary_of(parts);
+  return m;
+}
+
+void apply_deck_json(Model& m, const json& j, const std::string& deck_name);
+
+void apply_deck(Model& m, const std::string& text, const std::string& deck_name) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    throw pipeline::bad_input(deck_name, "not valid JSON: " + what.substr(what.find(']') + 2));
+  }
+  if (!j.is_object()) throw pipeline::bad_input(deck_name, "the deck must be a JSON object");
+  try {
+    apply_deck_json(m, j, deck_name);
+  } catch (const json::exception& e) {
+    std::string what = e.what();
+    throw pipeline::bad_input(deck_name, "wrong value type: " + what.substr(what.find(']') + 2));
+  }
+}
+
+void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
+  const Deck d{j, deck_name};
+  m.name = m.name + " + " + deck_name;
+  // Materials.
+  if (!j.contains("materials") || !j["materials"].is_object() || j["materials"].empty())
+    throw d.bad("missing 'materials' object");
+  m.materials.clear();
+  for (const auto& [name, o] : j["materials"].items()) {
+    const std::string w = "materials." + name;
+    if (!o.is_object()) throw d.bad(w + ": expected an object");
+    Material mat;
+    mat.name = name;
+    mat.density = num(d, o, "density", w, 0, true);
+    mat.E = num(d, o, "E", w, 0, true);
+    mat.nu = num(d, o, "nu", w, 0, true);
+    mat.rigid = flag(d, o, "rigid", w, false);
+    m.materials.push_back(mat);
+  }
+  // Parts.
+  std::vector<Part> parts;
+  std::set<std::string> used;
+  for (const auto& o : array_of(d, "parts")) {
+    const std::string g = str(d, o, "group", "parts[]");
+    const std::string w = "parts[" + g + "]";
+    if (!used.insert(g).second) throw d.bad(w + ": group appears in two parts");
+    auto mi = std::find_if(m.materials.begin(), m.materials.end(),
+                           [&](const Material& x) { return x.name == str(d, o, "material", w); });
+    if (mi == m.materials.end()) throw d.bad(w + ": unknown material '" + str(d, o, "material", w) + "'");
+    bool found = false;
+    for (const auto& p : m.parts)
+      if (p.name == g) {
+        Part q = p;
+        q.material = int(mi - m.materials.begin());
+        if (is_membrane(q.type)) q.thickness = num(d, o, "thickness", w, 0, true);
+        parts.push_back(std::move(q));
+        found = true;
+      }
+    if (!found) throw d.bad(w + ": the mesh has no group '" + g + "' with 2D or 3D elements");
+  }
+  m.parts = std::move(parts);
+  // Constraints and loads.
+  m.bcs.clear();
+  for (const auto& o : array_of(d, "fixed")) {
+    const std::string g = str(d, o, "group", "fixed[]");
+    const std::string dofs = o.contains("dofs") ? str(d, o, "dofs", "fixed[" + g + "]") : "xyz";
+    for (char c : dofs) m.bcs.push_back({g, dof_of(d, std::string(1, c), "fixed[" + g + "]"), BcKind::fixed, {}});
+  }
+  for (const auto& o : array_of(d, "prescribed")) {
+    const std::string g = str(d, o, "group", "prescribed[]");
+    const std::string w = "prescribed[" + g + "]";
+    const std::string type = str(d, o, "type", w);
+    if (type != "velocity" && type != "displacement") throw d.bad(w + ".type: expected \"velocity\" or \"displacement\"");
+    m.bcs.push_back({g, dof_of(d, str(d, o, "dof", w), w), type == "velocity" ? BcKind::velocity : BcKind::displacement,
+                     curve_of(d, o, w)});
+  }
+  m.loads.clear();
+  for (const auto& o : array_of(d, "loads")) {
+    const std::string g = str(d, o, "group", "loads[]");
+    m.loads.push_back({g, dof_of(d, str(d, o, "dof", "loads[" + g + "]"), "loads[" + g + "]"), curve_of(d, o, "loads[" + g + "]")});
+  }
+  m.initial_velocities.clear();
+  for (const auto& o : array_of(d, "initial_velocity")) {
+    InitialVelocity iv;
+    iv.group = str(d, o, "group", "initial_velocity[]");
+    if (!o.contains("velocity") || !o["velocity"].is_array() || o["velocity"].size() != 3)
+      throw d.bad("initial_velocity[" + iv.group + "]: 'velocity' must be [vx, vy, vz]");
+    for (int k = 0; k < 3; ++k) iv.v[k] = o["velocity"][k].get<double>();
+    m.initial_velocities.push_back(iv);
+  }
+  m.ties.clear();
+  for (const auto& o : array_of(d, "ties")) {
+    Tie t;
+    t.group_a = str(d, o, "group_a", "ties[]");
+    t.group_b = str(d, o, "group_b", "ties[]");
+    t.name = o.contains("name") ? str(d, o, "name", "ties[]") : t.group_a + "-" + t.group_b;
+    t.tolerance = num(d, o, "tolerance", "ties[" + t.name + "]", 0.01, false);
+    m.ties.push_back(t);
+  }
+  m.contacts.clear();
+  for (const auto& o : array_of(d, "contact")) {
+    ContactDef c;
+    c.slave = str(d, o, "slave", "contact[]");
+    c.master = str(d, o, "master", "contact[]");
+    c.name = o.contains("name") ? str(d, o, "name", "contact[]") : c.slave + "_on_" + c.master;
+    const std::string w = "contact[" + c.name + "]";
+    c.penalty_scale = num(d, o, "penalty_scale", w, 0.1, false);
+    c.damping_ratio = num(d, o, "damping_ratio", w, 0.0, false);
+    c.friction = num(d, o, "friction", w, 0.0, false);
+    c.two_sided = flag(d, o, "two_sided", w, false);
+    m.contacts.push_back(c);
+  }
+  if (j.contains("initial_state")) {
+    const json& o = j["initial_state"];
+    m.initial_state.file = str(d, o, "file", "initial_state");
+    m.initial_state.reset_time = flag(d, o, "reset_time", "initial_state", false);
+    m.initial_state.reset_velocity = flag(d, o, "reset_velocity", "initial_state", false);
+  }
+  if (!j.contains("control") || !j["control"].is_object()) throw d.bad("missing 'control' object (end_time at least)");
+  const json& c = j["control"];
+  Control& k = m.control;
+  k.end_time = num(d, c, "end_time", "control", 0, true);
+  k.damping_alpha = num(d, c, "damping_alpha", "control", 0, false);
+  k.dt_scale = num(d, c, "dt_scale", "control", 0.9, false);
+  k.dt_target = num(d, c, "dt_target", "control", 0, false);
+  k.dt_update_interval = int(num(d, c, "dt_update_interval", "control", 100, false));
+  k.hourglass = num(d, c, "hourglass", "control", 0.1, false);
+  k.output_interval = num(d, c, "output_interval", "control", 0, false);
+  k.history_interval = num(d, c, "history_interval", "control", 0, false);
+  k.energy_tolerance = num(d, c, "energy_tolerance", "control", 0.05, false);
+  k.penetration_tolerance = num(d, c, "penetration_tolerance", "control", 1.0, false);
+  static const std::set<std::string> control_keys = {
+      "end_time", "damping_alpha", "dt_scale", "dt_target", "dt_update_interval", "hourglass",
+      "output_interval", "history_interval", "energy_tolerance", "penetration_tolerance"};
+  for (const auto& [key, val] : c.items())
+    if (!control_keys.count(key) && key.rfind("_", 0) != 0) throw d.bad("control." + key + ": unknown key");
+  if (j.contains("output")) {
+    const json& o = j["output"];
+    if (o.contains("node_data")) m.output.node_data = o["node_data"].get<std::vector<std::string>>();
+    if (o.contains("history_groups")) m.output.history_groups = o["history_groups"].get<std::vector<std::string>>();
+  }
+  for (const auto& [key, val] : j.items())
+    if (std::string(" materials parts fixed prescribed loads initial_velocity ties contact initial_state control output ")
+            .find(" " + key + " ") == std::string::npos && key.rfind("_", 0) != 0)
+      throw d.bad("unknown top-level key '" + key + "'");
+  check_model(m);
+}
+
+Model load_model(const std::string& msh_path, const std::string& deck_path) {
+  Model m = read_msh(msh_path);
+  apply_deck(m, pipeline::read_text(deck_path), deck_path);
+  return m;
+}
+
+}  // namespace solve

@@ -1,0 +1,163 @@
+#include "solve/run.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+#include "pipeline/progress.h"
+#include "solve/save_state.h"
+#include "solve/write_results.h"
+
+namespace solve {
+namespace {
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", v);
+  return b;
+}
+
+std::string energy_row(const Energies& e) {
+  return fmt(e.time) + "," + fmt(e.kinetic) + "," + fmt(e.internal) + "," + fmt(e.contact) + "," + fmt(e.damping) +
+         "," + fmt(e.external) + "," + fmt(e.balance) + "\n";
+}
+
+void write_frame(std::ostream& out, const Model& m, const Solver& s, int index) {
+  const double t = s.time();
+  for (const auto& f : m.output.node_data) {
+    if (f == "displacement") append_node_data(out, m, f, t, index, s.displacement(), 3);
+    if (f == "velocity") append_node_data(out, m, f, t, index, s.v(), 3);
+    if (f == "contact_pressure") append_node_data(out, m, f, t, index, s.contact_pressure(), 1);
+    if (f == "contact_shear") append_node_data(out, m, f, t, index, s.contact_shear(), 1);
+    if (f == "von_mises") append_node_data(out, m, f, t, index, s.von_mises(), 1);
+  }
+}
+
+}  // namespace
+
+RunSummary run(const Model& model, const RunOptions& opt) {
+  namespace fs = std::filesystem;
+  if (opt.out_dir.empty()) throw pipeline::Error(pipeline::ErrorKind::usage, "no output directory given");
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  Solver s(model);
+  const Model& m = s.model();
+  // 1. Initial state: command line restart wins over the deck's initial_state.
+  if (!opt.restart.empty()) {
+    s.set_state(load_state(opt.restart), false, false);
+  } else if (!m.initial_state.file.empty()) {
+    s.set_state(load_state(m.initial_state.file), m.initial_state.reset_time, m.initial_state.reset_velocity);
+  }
+  std::error_code ec;
+  fs::create_directories(opt.out_dir, ec);
+  if (!fs::is_directory(opt.out_dir)) throw pipeline::io_failed(opt.out_dir, "cannot create the output directory");
+  const Control& c = m.control;
+  const double out_dt = c.output_interval > 0 ? c.output_interval : c.end_time / 10;
+  const double hist_dt = c.history_interval > 0 ? c.history_interval : out_dt / 10;
+  std::size_t n_elem = 0;
+  for (const auto& p : m.parts) n_elem += p.size();
+  pipeline::log("solve", std::to_string(m.n_nodes()) + " nodes, " + std::to_string(n_elem) + " elements, " +
+                             std::to_string(m.contacts.size()) + " contact pair(s); stable dt " +
+                             fmt(s.stable_dt()) + " ms, dt " + fmt(s.dt()) + " ms; mass " + fmt(s.total_mass()) +
+                             " g, added by mass scaling " + fmt(s.added_mass()) + " g (" +
+                             fmt(100 * s.added_mass() / std::max(1e-300, s.total_mass() - s.added_mass())) +
+                             " %); threads " + std::to_string(omp_get_max_threads()));
+  // 2. Outputs being built.
+  const fs::path dir(opt.out_dir);
+  const std::string frames_path = (dir / ".results.frames.tmp").string();
+  std::ofstream frames;
+  if (opt.write_results) frames.open(frames_path);
+  std::string energy_csv = "time_ms,kinetic_mJ,internal_mJ,contact_mJ,damping_mJ,external_work_mJ,balance_error_mJ\n";
+  std::string forces_csv = "time_ms";
+  for (const auto& cp : m.contacts) forces_csv += "," + cp.name + "_Fx," + cp.name + "_Fy," + cp.name + "_Fz";
+  for (const auto& g : m.output.history_groups)
+    for (const char* k : {"reaction", "section"})
+      for (const char* d : {"x", "y", "z"}) forces_csv += "," + g + "_" + k + "_F" + d;
+  forces_csv += "\n";
+  // 3. Time loop.
+  pipeline::Progress progress("solve", std::size_t(std::max(1.0, (c.end_time - s.time()) / s.dt())));
+  const double t0 = s.time();
+  double next_out = t0, next_hist = t0, emax = 0, max_pen = 0;
+  int frame = 0;
+  long step0 = s.steps();
+  SolverState good = s.state();
+  RunSummary sum;
+  auto fail = [&](const std::string& why) {
+    if (frames.is_open()) frames.close();
+    fs::remove(frames_path, ec);
+    const std::string diag = (dir / "diverged_state.bin").string();
+    save_state(diag, good);
+    pipeline::write_text_atomic((dir / "diverged_energy.csv").string(), energy_csv);
+    throw pipeline::algorithm_failed(m.name, "diverged at t = " + fmt(s.time()) + " ms (step " +
+                                                 std::to_string(s.steps()) + "): " + why + "; last good state (t = " +
+                                                 fmt(good.time) + " ms) in " + diag + ", no results written");
+  };
+  while (true) {
+    const bool last = s.time() >= c.end_time;
+    if (opt.write_results && (s.time() >= next_out - 1e-12 || last)) {
+      write_frame(frames, m, s, frame++);
+      while (next_out <= s.time() + 1e-12) next_out += out_dt;
+    }
+    if (last) break;
+    const bool hist = s.time() >= next_hist - 1e-12;
+    if (hist) {
+      s.request_energy();
+      while (next_hist <= s.time() + 1e-12) next_hist += hist_dt;
+    }
+    s.step();
+    if (!s.health().empty()) fail(s.health());
+    max_pen = std::max(max_pen, s.max_penetration());
+    if (hist) {
+      const Energies& e = s.energies();
+      energy_csv += energy_row(e);
+      forces_csv += fmt(e.time);
+      for (const auto& cp : s.contacts())
+        for (double f : cp.resultant_force()) forces_csv += "," + fmt(f);
+      for (const auto& g : m.output.history_groups) {
+        for (double f : s.reaction(g)) forces_csv += "," + fmt(f);
+        for (double f : s.section_force(g)) forces_csv += "," + fmt(f);
+      }
+      forces_csv += "\n";
+      emax = std::max({emax, e.kinetic + e.internal, std::fabs(e.external), e.contact + e.damping});
+      if (emax > 0 && std::fabs(e.balance) > c.energy_tolerance * emax)
+        fail("energy balance error " + fmt(e.balance) + " mJ exceeds " + fmt(c.energy_tolerance) +
+             " of the largest energy " + fmt(emax) + " mJ");
+      good = s.state();
+      sum.energies = e;
+    }
+    progress.update(std::size_t(s.steps() - step0), "t = " + fmt(s.time()) + " ms");
+  }
+  // 4. Outputs, atomically; results.msh only now that the run is sound.
+  save_state((dir / "state.bin").string(), s.state());
+  pipeline::write_text_atomic((dir / "energy.csv").string(), energy_csv);
+  pipeline::write_text_atomic((dir / "forces.csv").string(), forces_csv);
+  if (opt.write_results) {
+    frames.close();
+    pipeline::write_atomic((dir / "results.msh").string(), [&](const std::string& tmp) {
+      write_mesh_msh(m, tmp);
+      std::ofstream out(tmp, std::ios::app);
+      std::ifstream in(frames_path);
+      out << in.rdbuf();
+      if (!out) throw pipeline::io_failed(tmp, "write failed");
+    });
+    fs::remove(frames_path, ec);
+  }
+  sum.time = s.time();
+  sum.steps = s.steps() - step0;
+  sum.dt = s.dt();
+  sum.stable_dt = s.stable_dt();
+  sum.added_mass = s.added_mass();
+  sum.total_mass = s.total_mass();
+  sum.max_penetration = max_pen;
+  sum.wall_s = progress.elapsed_s();
+  progress.finish(std::to_string(sum.steps) + " steps to t = " + fmt(sum.time) + " ms");
+  return sum;
+}
+
+}  // namespace solve

@@ -1,0 +1,88 @@
+#include "solve/write_results.h"
+
+#include <cstdio>
+
+#include <gmsh.h>
+
+#include "pipeline/error.h"
+#include "solve/internal/gmsh_init.h"
+
+namespace solve {
+namespace {
+int gmsh_type(ElementType t) {
+  switch (t) {
+    case ElementType::tri3: return 2;
+    case ElementType::quad4: return 3;
+    case ElementType::tet4: return 4;
+    case ElementType::hex8: return 5;
+    case ElementType::wedge6: return 6;
+  }
+  return 0;
+}
+}  // namespace
+
+void write_mesh_msh(const Model& m, const std::string& path) {
+  internal::ensure_gmsh();
+  gmsh::option::setNumber("General.Terminal", 0);
+  try {
+    gmsh::clear();
+    gmsh::model::add("results");
+    std::vector<std::size_t> ntags(m.n_nodes());
+    for (std::size_t i = 0; i < ntags.size(); ++i) ntags[i] = m.node_tags.empty() ? i + 1 : std::size_t(m.node_tags[i]);
+    std::size_t next_elem = 1;
+    bool nodes_added = false;
+    for (const auto& p : m.parts) {
+      const int dim = is_membrane(p.type) ? 2 : 3;
+      const int ent = gmsh::model::addDiscreteEntity(dim);
+      if (!nodes_added) {
+        gmsh::model::mesh::addNodes(dim, ent, ntags, m.X);
+        nodes_added = true;
+      }
+      std::vector<std::size_t> etags(p.size()), conn(p.conn.size());
+      for (auto& t : etags) t = next_elem++;
+      for (std::size_t k = 0; k < conn.size(); ++k) conn[k] = ntags[p.conn[k]];
+      gmsh::model::mesh::addElementsByType(ent, gmsh_type(p.type), etags, conn);
+      const int pg = gmsh::model::addPhysicalGroup(dim, {ent});
+      gmsh::model::setPhysicalName(dim, pg, p.name);
+    }
+    // Named surfaces (contact masters, faces of generated blocks) as triangle groups.
+    for (const auto& [name, tris] : m.surfaces) {
+      bool is_part = false;
+      for (const auto& p : m.parts) is_part = is_part || p.name == name;
+      if (is_part || tris.empty() || !nodes_added) continue;
+      const int ent = gmsh::model::addDiscreteEntity(2);
+      std::vector<std::size_t> etags(tris.size()), conn;
+      for (auto& t : etags) t = next_elem++;
+      for (const auto& t : tris)
+        for (int id : t) conn.push_back(ntags[id]);
+      gmsh::model::mesh::addElementsByType(ent, 2, etags, conn);
+      const int pg = gmsh::model::addPhysicalGroup(2, {ent});
+      gmsh::model::setPhysicalName(2, pg, name);
+    }
+    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+    gmsh::option::setNumber("Mesh.Binary", 0);
+    gmsh::option::setNumber("Mesh.SaveAll", 0);
+    gmsh::write(path);
+    gmsh::clear();
+  } catch (const std::string& e) {
+    throw pipeline::io_failed(path, "gmsh cannot write the mesh: " + e);
+  }
+}
+
+void append_node_data(std::ostream& out, const Model& m, const std::string& name, double time, int step,
+                      const std::vector<double>& values, int ncomp) {
+  const std::size_t n = m.n_nodes();
+  out << "$NodeData\n1\n\"" << name << "\"\n1\n" << time << "\n3\n" << step << "\n" << ncomp << "\n" << n << "\n";
+  char buf[64];
+  for (std::size_t i = 0; i < n; ++i) {
+    out << (m.node_tags.empty() ? long(i + 1) : m.node_tags[i]);
+    for (int c = 0; c < ncomp; ++c) {
+      std::snprintf(buf, sizeof buf, " %.9g", values[ncomp * i + c]);
+      out << buf;
+    }
+    out << '\n';
+  }
+  out << "$EndNodeData\n";
+}
+
+}  // namespace solve

@@ -1,0 +1,21 @@
+#pragma once
+/// Results files of a run: the mesh in gmsh .msh 4.1 and nodal data blocks ($NodeData, one per
+/// field and output time), which gmsh shows as views with time steps and meshio/ParaView read.
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "solve/model.h"
+
+namespace solve {
+
+/// Writes the model's parts and named surfaces (triangles), one physical group each, and all nodes
+/// (the model's gmsh node tags) to `path` as msh 4.1 ASCII, through the gmsh API.
+/// @throws pipeline::Error(io) if gmsh cannot write.
+void write_mesh_msh(const Model& m, const std::string& path);
+
+/// Appends one $NodeData block: `values` is #nodes×ncomp (ncomp 1 or 3), time [ms], step index.
+void append_node_data(std::ostream& out, const Model& m, const std::string& name, double time, int step,
+                      const std::vector<double>& values, int ncomp);
+
+}  // namespace solve
