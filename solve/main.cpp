@@ -24,7 +24,6 @@ int main(int argc, char** argv) {
       .option("-r", "--restart", &opt.restart, "continue from this state.bin (overrides the deck's initial_state)")
       .option("-t", "--threads", &opt.threads, "OpenMP threads (0: default)", 0, 256);
   return pipeline::run_main(cli, argc, argv, [&] {
-    pipeline::log("solve", cli.resolved());
     // 1. Load and check the model.
     const solve::Model model = solve::load_model(msh, deck);
     // 2. Run; outputs are written atomically by run().

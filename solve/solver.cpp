@@ -21,7 +21,7 @@ struct Solver::Impl {
   std::vector<std::vector<double>> mass_factor;  // per block, per element (empty: 1)
   std::vector<double> fe;                        // element forces, all blocks
   std::vector<long> node_ptr, node_inc;          // CSR node → indices into fe (first of 3)
-  std::vector<double> X, x, v, mass, fint, fext, fcon, reac;
+  std::vector<double> X, x, v, v_old, mass, fint, fext, fcon, reac;
   internal::Constraints con;
   std::vector<ContactPair> pairs;
   double time = 0, dt = 0, dt_stable = 0, added = 0;
@@ -166,7 +166,8 @@ void Solver::step() {
   }
   const double e_int_n = want_energy_ ? s.internal_energy() : 0.0;
   // 3. Velocities and positions (constraints inside), energy bookkeeping.
-  std::vector<double> v_old = s.v;
+  s.v_old = s.v;
+  const std::vector<double>& v_old = s.v_old;
   internal::advance(s.con, m, s.X, s.mass, s.fint, s.fext, s.fcon, m.control.damping_alpha, t, dt, s.x, s.v,
                     s.reac);
   double ke = 0, wc = 0, wd = 0, we = 0;

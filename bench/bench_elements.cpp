@@ -1,0 +1,85 @@
+// Element throughput of the explicit solver: wedge (6-node pentahedron) internal-force updates per
+// second, on 1 and 2 threads, the usual explicit-code figure (issue 5: ≥ 5 M/s on one core,
+// ≥ 1.7× that on two). Also the cost of a whole solver step (forces, gather, constraints, update)
+// per element. A plain program (not Google Benchmark): it prints the figures the README quotes.
+//
+// Sample run:  bench_elements [n_cells_x=100] [seconds_per_case=2]
+#include <omp.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+
+#include "solve/internal/elements.h"
+#include "solve/make_block.h"
+#include "solve/solver.h"
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Runs f repeatedly for at least `min_s` seconds; returns calls per second.
+template <class F>
+double rate(F&& f, double min_s) {
+  f();  // warm-up (first touch, caches)
+  long n = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  do {
+    f();
+    ++n;
+  } while (seconds_since(t0) < min_s);
+  return n / seconds_since(t0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int nx = argc > 1 ? std::atoi(argv[1]) : 100;
+  const double min_s = argc > 2 ? std::atof(argv[2]) : 2.0;
+  solve::BlockSpec b;
+  b.type = solve::ElementType::wedge6;
+  b.nx = nx; b.ny = nx; b.nz = 10;
+  b.size = {double(nx), double(nx), 10};
+  b.jitter = 0.2;
+  solve::Model m = solve::make_block(b, {"fat", 1e-3, 0.015, 0.48, false});
+  const solve::internal::ElementBlock blk =
+      solve::internal::setup_block(m.parts[0], 0, m.materials[0], m.X.data(), 0.1, "bench");
+  const std::size_t ne = blk.size();
+  // a deformed state: uniform stretch plus noise, so every element does real work
+  std::vector<double> x = m.X;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-0.01, 0.01);
+  for (std::size_t k = 0; k < x.size(); ++k) x[k] = 1.02 * x[k] + U(rng);
+  std::vector<double> fe(ne * 6 * 3);
+  std::printf("bench_elements: %zu wedges, %zu nodes\n", ne, m.n_nodes());
+  double r1 = 0;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    const double calls = rate([&] { solve::internal::forces_for_elems(blk, x.data(), fe.data()); }, min_s);
+    const double per_s = calls * double(ne);
+    if (threads == 1) r1 = per_s;
+    std::printf("element kernel, %d thread(s): %.2f M wedge updates/s%s\n", threads, per_s / 1e6,
+                threads == 1 ? "" : (" (speed-up " + std::to_string(per_s / r1).substr(0, 4) + ")").c_str());
+  }
+  // Whole steps of the solver (kernel + gather by node + constraints + velocity/position update).
+  m.bcs.push_back({"zmin", 2, solve::BcKind::fixed, {}});
+  m.control.end_time = 1e9;
+  double s1 = 0;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    solve::Solver s(m);
+    solve::SolverState st = s.state();
+    st.x = x;
+    s.set_state(st);
+    const double steps = rate([&] { s.step(); }, min_s);
+    const double per_s = steps * double(ne);
+    if (threads == 1) s1 = per_s;
+    std::printf("full solver step, %d thread(s): %.2f M wedge updates/s (%.1f ms/step)%s\n", threads, per_s / 1e6,
+                1e3 / steps,
+                threads == 1 ? "" : (" (speed-up " + std::to_string(per_s / s1).substr(0, 4) + ")").c_str());
+  }
+  return 0;
+}

@@ -1,0 +1,86 @@
+#!/usr/bin/python3
+"""Converts solve's results.msh into an XDMF time series (one step per output time) and a .vtu of
+the last output time, for ParaView. Run with /usr/bin/python3 (Debian meshio, numpy).
+
+    /usr/bin/python3 solve/msh_to_vtu.py results.msh results.xdmf
+
+meshio reads the mesh; the $NodeData blocks (one per field and time) are parsed here because
+meshio keeps only the last block of each name.
+"""
+import os
+import sys
+
+import meshio
+import numpy as np
+
+
+def node_data_blocks(path):
+    """Yields (name, time, tags, values) for every $NodeData block of an ASCII msh file."""
+    with open(path) as f:
+        lines = iter(f)
+        for line in lines:
+            if line.strip() != "$NodeData":
+                continue
+            n_str = int(next(lines))
+            name = [next(lines).strip().strip('"') for _ in range(n_str)][0]
+            n_real = int(next(lines))
+            reals = [float(next(lines)) for _ in range(n_real)]
+            n_int = int(next(lines))
+            ints = [int(next(lines)) for _ in range(n_int)]
+            ncomp, n = ints[1], ints[2]
+            data = np.loadtxt([next(lines) for _ in range(n)], ndmin=2)
+            yield name, reals[0] if reals else 0.0, data[:, 0].astype(np.int64), data[:, 1:1 + ncomp]
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: msh_to_vtu.py results.msh out.xdmf")
+    src, dst = sys.argv[1], sys.argv[2]
+    try:
+        mesh = meshio.read(src, file_format="gmsh")
+    except Exception as e:  # meshio raises many types
+        sys.exit(f"msh_to_vtu: {src}: cannot read: {e}")
+    # meshio keeps the points in file order; map node tags to rows via the node order of the file
+    tags = []
+    with open(src) as f:
+        lines = iter(f)
+        for line in lines:
+            if line.strip() == "$Nodes":
+                n_blocks = int(next(lines).split()[0])
+                for _ in range(n_blocks):
+                    _, _, _, n = map(int, next(lines).split())
+                    tags += [int(next(lines)) for _ in range(n)]
+                    for _ in range(n):
+                        next(lines)
+                break
+    row = {t: i for i, t in enumerate(tags)}
+    frames = {}
+    for name, time, ntags, values in node_data_blocks(src):
+        arr = np.zeros((len(mesh.points), values.shape[1]))
+        arr[[row[t] for t in ntags]] = values
+        frames.setdefault(time, {})[name] = arr[:, 0] if values.shape[1] == 1 else arr
+    cells = [c for c in mesh.cells if c.type in ("triangle", "quad", "tetra", "hexahedron", "wedge")]
+    if not frames:
+        sys.exit(f"msh_to_vtu: {src}: no $NodeData blocks")
+    tmp = dst + ".tmp.xdmf"
+    with meshio.xdmf.TimeSeriesWriter(tmp) as w:
+        w.write_points_cells(mesh.points, cells)
+        for t in sorted(frames):
+            w.write_data(t, point_data=frames[t])
+    # the writer also creates an .h5 file next to the xdmf, named after it
+    os.replace(tmp, dst)
+    h5_tmp = os.path.splitext(tmp)[0] + ".h5"
+    if os.path.exists(h5_tmp):
+        os.replace(h5_tmp, os.path.splitext(dst)[0] + ".h5")
+        with open(dst) as f:
+            text = f.read()
+        with open(dst, "w") as f:
+            f.write(text.replace(os.path.basename(h5_tmp), os.path.basename(os.path.splitext(dst)[0] + ".h5")))
+    last = frames[max(frames)]
+    vtu = os.path.splitext(dst)[0] + ".vtu"
+    meshio.write(vtu, meshio.Mesh(mesh.points, cells, point_data=last))
+    print(f"msh_to_vtu: {len(frames)} time steps -> {dst}, last -> {vtu}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

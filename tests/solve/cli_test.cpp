@@ -1,0 +1,125 @@
+// The `solve` program end to end: a good run writes every output; bad inputs give one error line,
+// a non-zero exit and no results file; a restart continues; the meshio converter reads the results.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "solve/load_model.h"
+#include "solve/make_block.h"
+#include "solve/write_results.h"
+
+namespace {
+namespace fs = std::filesystem;
+
+struct CliCase {
+  std::string dir;
+  CliCase() {
+    dir = (fs::temp_directory_path() / ("solve_cli_" + std::to_string(::getpid()))).string();
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    solve::BlockSpec b;
+    b.type = solve::ElementType::wedge6;
+    b.nx = 3; b.ny = 3; b.nz = 3;
+    b.size = {3, 3, 3};
+    solve::write_mesh_msh(solve::make_block(b, {"skin", 1.2e-3, 0.6, 0.45, false}), dir + "/block.msh");
+  }
+  ~CliCase() { fs::remove_all(dir); }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir + "/" + name) << text; }
+  std::string read(const std::string& name) const {
+    std::ifstream in(dir + "/" + name);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  // Runs a command; returns its exit code; stderr in dir/err.txt.
+  int sh(const std::string& cmd) const {
+    const int rc = std::system((cmd + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  }
+  int solve(const std::string& deck, const std::string& out, const std::string& extra = "") const {
+    return sh(std::string(BIN_DIR) + "/solve --model " + dir + "/block.msh --deck " + dir + "/" + deck +
+              " --out-dir " + dir + "/" + out + " " + extra);
+  }
+};
+
+const char* kDeck = R"({
+  "materials": {"skin": {"density": 1.2e-3, "E": 0.6, "nu": 0.45}},
+  "parts": [{"group": "block", "material": "skin"}],
+  "fixed": [{"group": "zmin", "dofs": "xyz"}],
+  "prescribed": [{"group": "zmax", "type": "velocity", "dof": "z", "curve": [[0, 0], [0.5, -0.2], [END, -0.2]]}],
+  "control": {"end_time": END, "damping_alpha": 0.5, "output_interval": 0.25},
+  "output": {"history_groups": ["zmax"]}
+})";
+
+std::string deck(double end) {
+  std::string d = kDeck;
+  for (std::size_t p; (p = d.find("END")) != std::string::npos;) d.replace(p, 3, std::to_string(end));
+  return d;
+}
+
+int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (std::size_t p = 0; (p = text.find(what, p)) != std::string::npos; p += what.size()) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(solve_cli, good_run_writes_results_state_and_histories) {
+  CliCase c;
+  c.write("deck.json", deck(1.0));
+  ASSERT_EQ(c.solve("deck.json", "out"), 0) << c.read("err.txt");
+  for (const char* f : {"results.msh", "state.bin", "energy.csv", "forces.csv"})
+    EXPECT_TRUE(fs::exists(c.dir + "/out/" + f)) << f;
+  // frames at 0, 0.25, 0.5, 0.75, 1.0 ms, five fields each
+  EXPECT_EQ(count(c.read("out/results.msh"), "$NodeData"), 5 * 5);
+  // the results open as a mesh again (same nodes)
+  const solve::Model r = solve::read_msh(c.dir + "/out/results.msh");
+  EXPECT_EQ(r.n_nodes(), 64u);
+  // the pressing force shows up as a reaction on zmax (compressive: +z on the block's top)
+  EXPECT_NE(c.read("out/forces.csv").find("zmax_reaction_Fz"), std::string::npos);
+  // restart: continue to 2 ms from the saved state
+  c.write("deck2.json", deck(2.0));
+  ASSERT_EQ(c.solve("deck2.json", "out2", "--restart " + c.dir + "/out/state.bin"), 0) << c.read("err.txt");
+  EXPECT_TRUE(fs::exists(c.dir + "/out2/results.msh"));
+  // meshio conversion for ParaView
+  ASSERT_EQ(c.sh(std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/solve/msh_to_vtu.py " + c.dir +
+                 "/out/results.msh " + c.dir + "/out/results.xdmf"),
+            0)
+      << c.read("err.txt");
+  EXPECT_TRUE(fs::exists(c.dir + "/out/results.xdmf"));
+  EXPECT_TRUE(fs::exists(c.dir + "/out/results.vtu"));
+}
+
+TEST(solve_cli, bad_deck_one_error_line_no_results) {
+  CliCase c;
+  c.write("bad.json", R"({"materials": {"skin": {"density": 1e-3, "E": 0.6, "nu": 0.45}},
+                          "parts": [{"group": "block", "material": "skin"}]})");
+  EXPECT_EQ(c.solve("bad.json", "out"), 2);
+  const std::string err = c.read("err.txt");
+  EXPECT_NE(err.find("bad.json"), std::string::npos) << err;
+  EXPECT_NE(err.find("control"), std::string::npos) << err;
+  EXPECT_EQ(count(err, "solve: "), 2) << err;  // the resolved-options log line + the one error line
+  EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+  c.write("bad2.json", "{ not json");
+  EXPECT_EQ(c.solve("bad2.json", "out"), 2);
+  c.write("bad3.json", deck(1.0).replace(deck(1.0).find("\"block\""), 7, "\"nope\""));
+  EXPECT_EQ(c.solve("bad3.json", "out"), 2);
+  EXPECT_NE(c.read("err.txt").find("nope"), std::string::npos);
+  EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+}
+
+TEST(solve_cli, bad_msh_one_error_line_no_results) {
+  CliCase c;
+  c.write("deck.json", deck(1.0));
+  c.write("block.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\ngarbage\n");
+  EXPECT_EQ(c.solve("deck.json", "out"), 2);
+  EXPECT_NE(c.read("err.txt").find("block.msh"), std::string::npos) << c.read("err.txt");
+  EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+  fs::remove(c.dir + "/block.msh");
+  EXPECT_EQ(c.solve("deck.json", "out"), 2);
+  EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+}
