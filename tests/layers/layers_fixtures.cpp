@@ -17,7 +17,9 @@ layering::FeModel niosh_surface(const std::string& stl, double edge_mm) {
   m.collect_garbage();
   PMP::isotropic_remeshing(faces(m), edge_mm, m, PMP::parameters::number_of_iterations(10));
   // Remeshing leaves a few caps/needles near the capped neck; collapse/flip them away.
-  PMP::experimental::remove_almost_degenerate_faces(m, -0.8, 3.0, 0.5 * edge_mm);
+  PMP::experimental::remove_almost_degenerate_faces(m, -0.8, 2.5, 0.6 * edge_mm);
+  m.collect_garbage();
+  PMP::isotropic_remeshing(faces(m), edge_mm, m, PMP::parameters::number_of_iterations(3));
   m.collect_garbage();
   layering::FeModel out;
   for (auto v : m.vertices()) {
