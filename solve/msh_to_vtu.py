@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Converts solve's results.msh into an XDMF time series (one step per output time) and a .vtu of
-the last output time, for ParaView. Run with /usr/bin/python3 (Debian meshio, numpy).
+"""Converts solve's results.msh into an XDMF time series (one step per output time; data in a .h5
+beside it) and a .vtu of the last output time, for ParaView. Run with /usr/bin/python3 (Debian meshio, numpy).
 
     /usr/bin/python3 solve/msh_to_vtu.py results.msh results.xdmf
 
@@ -62,23 +62,31 @@ def main():
     cells = [c for c in mesh.cells if c.type in ("triangle", "quad", "tetra", "hexahedron", "wedge")]
     if not frames:
         sys.exit(f"msh_to_vtu: {src}: no $NodeData blocks")
-    tmp = dst + ".tmp.xdmf"
-    with meshio.xdmf.TimeSeriesWriter(tmp) as w:
-        w.write_points_cells(mesh.points, cells)
-        for t in sorted(frames):
-            w.write_data(t, point_data=frames[t])
-    # the writer also creates an .h5 file next to the xdmf, named after it
-    os.replace(tmp, dst)
-    h5_tmp = os.path.splitext(tmp)[0] + ".h5"
-    if os.path.exists(h5_tmp):
-        os.replace(h5_tmp, os.path.splitext(dst)[0] + ".h5")
-        with open(dst) as f:
-            text = f.read()
-        with open(dst, "w") as f:
-            f.write(text.replace(os.path.basename(h5_tmp), os.path.basename(os.path.splitext(dst)[0] + ".h5")))
+    # meshio's TimeSeriesWriter puts its .h5 in the working directory, named after the xdmf stem:
+    # write in the destination directory under temporary names, then rename (no half files).
+    dst = os.path.abspath(dst)
+    ddir, base = os.path.split(dst)
+    stem = os.path.splitext(base)[0]
+    cwd = os.getcwd()
+    os.chdir(ddir)
+    try:
+        with meshio.xdmf.TimeSeriesWriter(stem + ".tmp.xdmf") as w:
+            w.write_points_cells(mesh.points, cells)
+            for t in sorted(frames):
+                w.write_data(t, point_data=frames[t])
+        os.replace(stem + ".tmp.h5", stem + ".h5")
+        with open(stem + ".tmp.xdmf") as f:
+            text = f.read().replace(stem + ".tmp.h5", stem + ".h5")
+        with open(stem + ".tmp.xdmf", "w") as f:
+            f.write(text)
+        os.replace(stem + ".tmp.xdmf", base)
+    finally:
+        os.chdir(cwd)
     last = frames[max(frames)]
     vtu = os.path.splitext(dst)[0] + ".vtu"
-    meshio.write(vtu, meshio.Mesh(mesh.points, cells, point_data=last))
+    vtu_tmp = vtu + ".tmp.vtu"
+    meshio.write(vtu_tmp, meshio.Mesh(mesh.points, cells, point_data=last))
+    os.replace(vtu_tmp, vtu)
     print(f"msh_to_vtu: {len(frames)} time steps -> {dst}, last -> {vtu}", file=sys.stderr)
 
 

@@ -91,6 +91,7 @@ TEST(solve_cli, good_run_writes_results_state_and_histories) {
             0)
       << c.read("err.txt");
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.xdmf"));
+  EXPECT_TRUE(fs::exists(c.dir + "/out/results.h5"));
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.vtu"));
 }
 
