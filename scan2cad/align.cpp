@@ -1,0 +1,208 @@
+// Head and respirator alignment into the paper's frame; see align.h.
+#include "scan2cad/align.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
+#include "scan2cad/internal/align_symmetry.h"
+
+namespace scan2cad {
+namespace {
+
+using Eigen::Vector3d;
+using internal::SurfaceSamples;
+
+/// Extent of `values` between the 2nd and 98th percentiles (robust to stray samples).
+double robust_range(std::vector<double> v) {
+  if (v.size() < 10) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() * 98 / 100] - v[v.size() * 2 / 100];
+}
+
+/// Lateral width of the cap of samples within `band` of the extreme along `dir` [mm].
+double cap_width(const SurfaceSamples& s, const internal::Plane& pl, const Vector3d& dir, double band) {
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& p : s.p) top = std::max(top, p.dot(dir));
+  double lo = 1e300, hi = -1e300;
+  for (const auto& p : s.p)
+    if (p.dot(dir) > top - band) lo = std::min(lo, pl.n.dot(p)), hi = std::max(hi, pl.n.dot(p));
+  return hi - lo;
+}
+
+/// Support value max(p·dir) over the midline samples whose height (p − tip)·up is in [h0, h1].
+double support(const std::vector<Vector3d>& mid, const Vector3d& tip, const Vector3d& up, double h0, double h1,
+               const Vector3d& dir) {
+  double best = -std::numeric_limits<double>::infinity();
+  for (const auto& p : mid) {
+    const double h = (p - tip).dot(up);
+    if (h >= h0 && h <= h1) best = std::max(best, p.dot(dir));
+  }
+  return best;
+}
+
+/// Head: face direction z and up y in the symmetry plane (unit vectors, in-plane).
+void head_axes(const SurfaceSamples& s, const internal::Plane& pl, const Vector3d& a, const Vector3d& b,
+               Vector3d& y, Vector3d& z) {
+  // 1. Rough face direction: the nose tip is a point-like extreme, so the cap within 10 mm of it
+  //    is narrow laterally; the crown, occiput and the edge of a cut neck give wide caps.
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 72; ++k) {
+    const double t = k * M_PI / 36.0;
+    const Vector3d dir = std::cos(t) * a + std::sin(t) * b;
+    const double w = cap_width(s, pl, dir, 10.0);
+    if (w < best) best = w, z = dir;
+  }
+  std::vector<Vector3d> mid;  // samples near the sagittal plane
+  for (const auto& p : s.p)
+    if (std::abs(pl.n.dot(p) - pl.d) < 8.0) mid.push_back(p);
+  if (mid.size() < 20) throw pipeline::algorithm_failed("head", "too few surface points near the symmetry plane");
+  // 2. Up: 70–100 mm above the nose tip the midline front profile is the forehead (forward);
+  //    as far below it lies the neck, far behind the tip.
+  auto nose_tip = [&](const Vector3d& dir) {
+    Vector3d tip = mid.front();
+    for (const auto& p : mid)
+      if (p.dot(dir) > tip.dot(dir)) tip = p;
+    return tip;
+  };
+  Vector3d tip = nose_tip(z);
+  y = pl.n.cross(z).normalized();
+  const double f_up = support(mid, tip, y, 70.0, 100.0, z), f_down = support(mid, tip, -y, 70.0, 100.0, z);
+  if (!std::isfinite(f_up) && !std::isfinite(f_down))
+    throw pipeline::algorithm_failed("head", "cannot tell up from down: no midline surface 70-100 mm from the nose tip");
+  if (f_down > f_up) y = -y;
+  // 3. Pitch: the face looks perpendicular to its profile line, the common tangent of the
+  //    forehead (45–120 mm above the nose tip) and the lips/chin (30–110 mm below), which leaves
+  //    out the nose. Iterated so that the bands are measured in the final frame.
+  for (int it = 0; it < 4; ++it) {
+    tip = nose_tip(z);
+    auto gap = [&](double t) {  // forehead minus chin support along z rotated by t toward y
+      const Vector3d d = std::cos(t) * z + std::sin(t) * y;
+      return support(mid, tip, y, 45.0, 120.0, d) - support(mid, tip, y, -110.0, -30.0, d);
+    };
+    double lo = -0.7, hi = 0.7;  // ±40°: gap increases with t (forehead is above the chin)
+    if (!(gap(lo) < 0.0 && gap(hi) > 0.0))
+      throw pipeline::algorithm_failed("head", "no forehead-chin profile line found near the nose");
+    for (int k = 0; k < 50; ++k) {
+      const double m = 0.5 * (lo + hi);
+      (gap(m) > 0.0 ? hi : lo) = m;
+    }
+    const double t = 0.5 * (lo + hi);
+    const Vector3d z2 = (std::cos(t) * z + std::sin(t) * y).normalized();
+    y = (std::cos(t) * y - std::sin(t) * z).normalized();
+    z = z2;
+    if (std::abs(t) < 1e-6) break;
+  }
+}
+
+/// Respirator: y along the long in-plane axis (nose end = narrower, +y), z along the short one
+/// with the open, wider side of the cup toward −z.
+void respirator_axes(const SurfaceSamples& s, const internal::Plane& pl, const Vector3d& a, const Vector3d& b,
+                     Vector3d& y, Vector3d& z) {
+  auto end_spread = [&](const Vector3d& axis, bool high, double frac, bool area) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& p : s.p) lo = std::min(lo, p.dot(axis)), hi = std::max(hi, p.dot(axis));
+    const Vector3d other = axis.cross(pl.n).normalized();
+    std::vector<double> xs, os;
+    for (const auto& p : s.p) {
+      const double t = (p.dot(axis) - lo) / (hi - lo);
+      if (high ? t > 1.0 - frac : t < frac) xs.push_back(pl.n.dot(p)), os.push_back(p.dot(other));
+    }
+    return area ? robust_range(xs) * robust_range(os) : robust_range(xs);
+  };
+  z = end_spread(b, true, 0.2, true) > end_spread(b, false, 0.2, true) ? Vector3d(-b) : b;
+  y = end_spread(a, true, 0.25, false) < end_spread(a, false, 0.25, false) ? a : Vector3d(-a);
+}
+
+}  // namespace
+
+AlignKind parse_align_kind(const std::string& name) {
+  if (name == "head") return AlignKind::head;
+  if (name == "respirator") return AlignKind::respirator;
+  throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + name + "', expected head or respirator");
+}
+
+AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt) {
+  if (mesh.number_of_faces() == 0) throw pipeline::bad_input("surface", "no faces");
+  // 1. Symmetry plane → lateral axis.
+  const auto sym = internal::find_symmetry_plane(mesh, std::size_t(opt.samples));
+  const internal::Plane& pl = sym.plane;
+  // 2. In-plane principal axes of the surface.
+  const SurfaceSamples s = internal::sample_surface(mesh, 20000, 11);
+  Vector3d mean;
+  Eigen::Matrix3d cov;
+  internal::sample_moments(s, mean, cov);
+  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - pl.n * pl.n.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P * cov * P);
+  const Vector3d a = eig.eigenvectors().col(2).normalized(), b = pl.n.cross(a).normalized();
+  Vector3d y, z;
+  if (opt.kind == AlignKind::head)
+    head_axes(s, pl, a, b, y, z);
+  else
+    respirator_axes(s, pl, a, b, y, z);
+  // 3. Right-handed frame and origin.
+  const Vector3d x = y.cross(z);
+  Eigen::Matrix3d R;
+  R.row(0) = x.transpose();
+  R.row(1) = y.transpose();
+  R.row(2) = z.transpose();
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (auto v : mesh.vertices()) {
+    const auto& q = mesh.point(v);
+    const Vector3d r = R * Vector3d(q.x(), q.y(), q.z());
+    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], r[k + 1]), hi[k] = std::max(hi[k], r[k + 1]);
+  }
+  AlignResult res;
+  res.transform.block<3, 3>(0, 0) = R;
+  res.transform(0, 3) = -x.dot(pl.d * pl.n);
+  res.transform(1, 3) = -0.5 * (lo[0] + hi[0]);
+  res.transform(2, 3) = -0.5 * (lo[1] + hi[1]);
+  res.symmetry_rms_mm = sym.rms_mm;
+  res.symmetry_inliers = sym.inlier_fraction;
+  return res;
+}
+
+void apply_transform(pipeline::SurfaceMesh& mesh, const Eigen::Matrix4d& T) {
+  for (auto v : mesh.vertices()) {
+    const auto& q = mesh.point(v);
+    const Eigen::Vector4d r = T * Eigen::Vector4d(q.x(), q.y(), q.z(), 1.0);
+    mesh.point(v) = pipeline::Point(r[0], r[1], r[2]);
+  }
+}
+
+std::string align_json(const AlignResult& r, AlignKind kind, double unit_scale_to_mm) {
+  nlohmann::json j;
+  j["kind"] = kind == AlignKind::head ? "head" : "respirator";
+  j["frame"] = "x lateral (+x = subject's left), y up, z out of the face; mm";
+  j["origin"] = "x = 0 on the symmetry plane; y, z = 0 at the centre of the aligned bounding box";
+  j["unit_scale_to_mm"] = unit_scale_to_mm;
+  j["matrix_applies_to"] = "input coordinates after scaling to mm, as column vectors [x y z 1]";
+  for (int i = 0; i < 4; ++i) j["matrix"].push_back({r.transform(i, 0), r.transform(i, 1), r.transform(i, 2), r.transform(i, 3)});
+  j["symmetry_rms_mm"] = r.symmetry_rms_mm;
+  j["symmetry_inliers"] = r.symmetry_inliers;
+  return j.dump(2) + "\n";
+}
+
+Eigen::Matrix4d read_align_transform(const std::string& path) {
+  Eigen::Matrix4d T;
+  try {
+    const auto j = nlohmann::json::parse(pipeline::read_text(path));
+    const auto& m = j.at("matrix");
+    if (!m.is_array() || m.size() != 4) throw pipeline::bad_input(path, "\"matrix\" must have 4 rows");
+    for (int i = 0; i < 4; ++i) {
+      if (m[i].size() != 4) throw pipeline::bad_input(path, "\"matrix\" row must have 4 numbers");
+      for (int k = 0; k < 4; ++k) T(i, k) = m[i][k].get<double>();
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw pipeline::bad_input(path, std::string("not a transform file: ") + e.what());
+  }
+  if (!T.allFinite()) throw pipeline::bad_input(path, "\"matrix\" has non-finite entries");
+  return T;
+}
+
+}  // namespace scan2cad

@@ -1,0 +1,33 @@
+#pragma once
+/// Hole filling with fairing (CGAL triangulate_refine_and_fair_hole).
+///
+/// Rule for which boundary loops are holes: on a head every loop is a hole (the output is
+/// closed). On a respirator the loop with the longest perimeter is the rim the shell is meant
+/// to have and stays open; every other loop is a hole.
+#include <cstddef>
+#include <vector>
+
+#include "pipeline/surface_mesh.h"
+#include "scan2cad/scan_kind.h"
+
+namespace scan2cad {
+
+struct HoleInfo {
+  std::size_t boundary_edges = 0;
+  double perimeter_mm = 0;
+  double diameter_mm = 0;  ///< largest distance between two of its boundary vertices [mm]
+  bool kept_open = false;  ///< the respirator rim
+  bool filled = false;     ///< triangulated and refined
+  bool faired = false;     ///< fairing succeeded too (else only refined)
+  std::size_t faces_added = 0;
+};
+
+/// Fills the holes of `mesh` in place.
+///
+/// @param[in,out] mesh  triangle mesh [mm]; new faces have edge lengths like their borders
+/// @param[in]     kind  decides which loop stays open (see above)
+/// @return one HoleInfo per boundary loop found, largest perimeter first
+/// @note a loop CGAL cannot triangulate stays open and is reported with filled = false
+std::vector<HoleInfo> fill_holes(pipeline::SurfaceMesh& mesh, ScanKind kind);
+
+}  // namespace scan2cad

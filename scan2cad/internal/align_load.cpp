@@ -1,0 +1,34 @@
+// scan2cad::load_surface_any_unit (declared in align.h): any scan file → polygon mesh in mm.
+// Kept apart from align.cpp so the heavy CGAL soup-repair headers compile in one small file.
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+
+#include "pipeline/error.h"
+#include "pipeline/read_scan.h"
+#include "scan2cad/align.h"
+
+namespace scan2cad {
+
+pipeline::SurfaceMesh load_surface_any_unit(const std::string& path, double expected_size_mm,
+                                            double* unit_scale_to_mm) {
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  pipeline::ScanReadOptions ro;
+  ro.expected_size_mm = expected_size_mm;
+  pipeline::Scan scan = pipeline::read_scan(path, ro);
+  if (!scan.is_mesh)
+    throw pipeline::bad_input(path, "is a point cloud, expected a surface mesh (run reconstruct and repair first)");
+  if (unit_scale_to_mm) *unit_scale_to_mm = pipeline::mm_per_unit(scan.unit);
+  PMP::repair_polygon_soup(scan.soup.points, scan.soup.polygons);
+  PMP::orient_polygon_soup(scan.soup.points, scan.soup.polygons);
+  pipeline::SurfaceMesh mesh;
+  PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
+  if (mesh.number_of_faces() == 0)
+    throw pipeline::bad_input(path, "no usable faces after soup repair");
+  // Outward normals when the surface is closed (landmarks read "facing down" from them).
+  if (CGAL::is_closed(mesh)) PMP::orient_to_bound_a_volume(mesh);
+  return mesh;
+}
+
+}  // namespace scan2cad

@@ -1,0 +1,214 @@
+// Reflective-symmetry plane detection; see align_symmetry.h.
+#include "scan2cad/internal/align_symmetry.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "pipeline/error.h"
+
+namespace scan2cad::internal {
+namespace {
+
+using pipeline::SurfaceMesh;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, Primitive>>;
+
+Eigen::Vector3d to_eigen(const pipeline::Point& p) { return {p.x(), p.y(), p.z()}; }
+
+Eigen::Vector3d reflect(const Eigen::Vector3d& p, const Plane& pl) {
+  return p - 2.0 * (pl.n.dot(p) - pl.d) * pl.n;
+}
+
+/// Closest points on the surface with the normal of the face they lie on.
+struct Surface {
+  const SurfaceMesh& mesh;
+  Tree tree;
+  SurfaceMesh::Property_map<pipeline::FaceIndex, pipeline::Vector> normals;
+  explicit Surface(const SurfaceMesh& m) : mesh(m), tree(faces(m).first, faces(m).second, m) {
+    tree.accelerate_distance_queries();
+    normals = const_cast<SurfaceMesh&>(m)
+                  .add_property_map<pipeline::FaceIndex, pipeline::Vector>("f:align_normal", {0, 0, 0})
+                  .first;
+    CGAL::Polygon_mesh_processing::compute_face_normals(m, normals);
+  }
+  ~Surface() { const_cast<SurfaceMesh&>(mesh).remove_property_map(normals); }
+  void closest(const Eigen::Vector3d& q, Eigen::Vector3d& c, Eigen::Vector3d& n) const {
+    const auto pp = tree.closest_point_and_primitive(pipeline::Point(q.x(), q.y(), q.z()));
+    c = to_eigen(pp.first);
+    const auto& v = normals[pp.second];
+    n = {v.x(), v.y(), v.z()};
+  }
+};
+
+/// Mean of min(distance, cap) of the reflected samples to the surface: lower is more symmetric.
+double truncated_score(const Surface& s, const SurfaceSamples& smp, std::size_t stride, const Plane& pl,
+                       double cap) {
+  double sum = 0.0;
+  std::size_t k = 0;
+  Eigen::Vector3d c, n;
+  for (std::size_t i = 0; i < smp.p.size(); i += stride, ++k) {
+    const Eigen::Vector3d r = reflect(smp.p[i], pl);
+    s.closest(r, c, n);
+    sum += std::min((r - c).norm(), cap);
+  }
+  return sum / double(std::max<std::size_t>(k, 1));
+}
+
+/// Reflect-and-match ICP: Gauss-Newton on the point-to-plane distances of the reflected samples
+/// to their closest surface points, over the plane's 2 rotation and 1 offset parameters.
+SymmetryResult refine(const Surface& s, const SurfaceSamples& smp, Plane pl, double cap) {
+  const std::size_t N = smp.p.size();
+  std::vector<double> dist(N);
+  std::vector<Eigen::Vector3d> cs(N), ms(N);
+  double tau = cap;
+  for (int it = 0; it < 30; ++it) {
+    for (std::size_t i = 0; i < N; ++i) {
+      s.closest(reflect(smp.p[i], pl), cs[i], ms[i]);
+      dist[i] = (reflect(smp.p[i], pl) - cs[i]).norm();
+    }
+    std::vector<double> sorted = dist;
+    std::nth_element(sorted.begin(), sorted.begin() + N / 2, sorted.end());
+    tau = std::min(cap, std::max(2.5 * sorted[N / 2], 0.3));
+    Eigen::Vector3d t1 = pl.n.unitOrthogonal(), t2 = pl.n.cross(t1);
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < N; ++i) {
+      if (dist[i] > tau) continue;
+      // The mirrored normal of the sample must agree with the matched face (rejects matches
+      // on the wrong side of thin parts).
+      const Eigen::Vector3d rn = smp.n[i] - 2.0 * pl.n.dot(smp.n[i]) * pl.n;
+      if (rn.dot(ms[i]) < 0.3) continue;
+      const Eigen::Vector3d& p = smp.p[i];
+      const Eigen::Vector3d r = reflect(p, pl);
+      const double h = pl.n.dot(p) - pl.d;
+      Eigen::Vector3d J(ms[i].dot(-2.0 * t1.dot(p) * pl.n - 2.0 * h * t1),
+                        ms[i].dot(-2.0 * t2.dot(p) * pl.n - 2.0 * h * t2), ms[i].dot(2.0 * pl.n));
+      const double e = ms[i].dot(r - cs[i]);
+      A += J * J.transpose();
+      b -= J * e;
+    }
+    A.diagonal().array() += 1e-9 * (A.trace() + 1.0);
+    const Eigen::Vector3d x = A.ldlt().solve(b);
+    if (!x.allFinite()) break;
+    pl.n = (pl.n + x[0] * t1 + x[1] * t2).normalized();
+    pl.d += x[2];
+    if (std::abs(x[0]) + std::abs(x[1]) < 1e-5 && std::abs(x[2]) < 1e-3 && it > 2) break;
+  }
+  SymmetryResult res;
+  res.plane = pl;
+  double sq = 0.0;
+  std::size_t in = 0;
+  Eigen::Vector3d c, n;
+  for (std::size_t i = 0; i < N; ++i) {
+    const Eigen::Vector3d r = reflect(smp.p[i], pl);
+    s.closest(r, c, n);
+    const double dd = (r - c).norm();
+    if (dd <= tau) sq += dd * dd, ++in;
+  }
+  res.inlier_fraction = double(in) / double(N);
+  res.rms_mm = in ? std::sqrt(sq / double(in)) : 0.0;
+  return res;
+}
+
+}  // namespace
+
+SurfaceSamples sample_surface(const SurfaceMesh& mesh, std::size_t count, unsigned seed) {
+  std::vector<pipeline::FaceIndex> fs;
+  std::vector<double> cum;
+  double total = 0.0;
+  for (auto f : faces(mesh)) {
+    auto h = halfedge(f, mesh);
+    const auto a = to_eigen(mesh.point(source(h, mesh))), b = to_eigen(mesh.point(target(h, mesh))),
+               c = to_eigen(mesh.point(target(next(h, mesh), mesh)));
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    if (!(area > 0.0) || !std::isfinite(area)) continue;
+    total += area;
+    fs.push_back(f);
+    cum.push_back(total);
+  }
+  if (fs.empty()) throw pipeline::bad_input("surface", "no face of positive area");
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  SurfaceSamples s;
+  s.p.reserve(count);
+  s.n.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t k = std::lower_bound(cum.begin(), cum.end(), U(rng) * total) - cum.begin();
+    auto h = halfedge(fs[std::min(k, fs.size() - 1)], mesh);
+    const auto a = to_eigen(mesh.point(source(h, mesh))), b = to_eigen(mesh.point(target(h, mesh))),
+               c = to_eigen(mesh.point(target(next(h, mesh), mesh)));
+    double u = U(rng), v = U(rng);
+    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+    s.p.push_back(a + u * (b - a) + v * (c - a));
+    s.n.push_back((b - a).cross(c - a).normalized());
+  }
+  return s;
+}
+
+void sample_moments(const SurfaceSamples& s, Eigen::Vector3d& mean, Eigen::Matrix3d& cov) {
+  mean.setZero();
+  for (const auto& p : s.p) mean += p;
+  mean /= double(s.p.size());
+  cov.setZero();
+  for (const auto& p : s.p) cov += (p - mean) * (p - mean).transpose();
+  cov /= double(s.p.size());
+}
+
+SymmetryResult find_symmetry_plane(const SurfaceMesh& mesh, std::size_t samples) {
+  const SurfaceSamples smp = sample_surface(mesh, samples);
+  Eigen::Vector3d mean;
+  Eigen::Matrix3d cov;
+  sample_moments(smp, mean, cov);
+  const double size = 2.0 * std::sqrt(cov.trace());  // ~ object diameter [mm]
+  const double cap = 0.04 * size;
+  const Surface surf(mesh);
+
+  // 1. Candidate normals: principal axes + a Fibonacci hemisphere.
+  std::vector<Eigen::Vector3d> dirs;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  for (int k = 0; k < 3; ++k) dirs.push_back(eig.eigenvectors().col(k));
+  const int M = 150;
+  for (int i = 0; i < M; ++i) {
+    const double z = (i + 0.5) / M, r = std::sqrt(1.0 - z * z), phi = i * 2.399963229728653;
+    dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
+  std::vector<std::pair<double, Plane>> scored;
+  const std::size_t stride = std::max<std::size_t>(1, smp.p.size() / 600);
+  for (const auto& n : dirs) {
+    Plane pl{n.normalized(), n.normalized().dot(mean)};
+    scored.push_back({truncated_score(surf, smp, stride, pl, cap), pl});
+  }
+  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  // 2. Refine the best distinct candidates (> 12° apart) and keep the most symmetric result.
+  std::vector<Plane> picked;
+  for (const auto& [sc, pl] : scored) {
+    bool distinct = true;
+    for (const auto& q : picked) distinct = distinct && std::abs(q.n.dot(pl.n)) < std::cos(12.0 * M_PI / 180.0);
+    if (distinct) picked.push_back(pl);
+    if (picked.size() == 3) break;
+  }
+  // Refinement on a subset: 2500 samples pin the plane to well under 0.1°.
+  SurfaceSamples sub;
+  const std::size_t rs = std::max<std::size_t>(1, smp.p.size() / 2500);
+  for (std::size_t i = 0; i < smp.p.size(); i += rs) sub.p.push_back(smp.p[i]), sub.n.push_back(smp.n[i]);
+  SymmetryResult best;
+  double best_score = std::numeric_limits<double>::infinity();
+  for (const auto& pl : picked) {
+    SymmetryResult r = refine(surf, sub, pl, cap);
+    const double sc = truncated_score(surf, smp, 1, r.plane, cap);
+    if (sc < best_score && r.inlier_fraction > 0.2) best_score = sc, best = r;
+  }
+  if (!std::isfinite(best_score))
+    throw pipeline::algorithm_failed("surface", "no reflective symmetry plane found (no candidate converged)");
+  return best;
+}
+
+}  // namespace scan2cad::internal

@@ -1,0 +1,112 @@
+// Helpers of repair: soup → mesh, spikes, self-intersections (CGAL PMP where it has the tool).
+#include "scan2cad/internal/cleanup.h"
+
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+#include <CGAL/Polygon_mesh_processing/manifoldness.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+
+#include <cmath>
+#include <set>
+#include <vector>
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using pipeline::Point;
+using pipeline::SurfaceMesh;
+using pipeline::Vector;
+
+namespace scan2cad::internal {
+
+SurfaceMesh soup_to_mesh(pipeline::PolygonSoup soup, SoupStats* stats) {
+  const std::size_t polys0 = soup.polygons.size();
+  PMP::repair_polygon_soup(soup.points, soup.polygons);
+  const std::size_t points0 = soup.points.size();
+  PMP::orient_polygon_soup(soup.points, soup.polygons);  // duplicates points at non-manifold vertices
+  SurfaceMesh mesh;
+  PMP::polygon_soup_to_polygon_mesh(soup.points, soup.polygons, mesh);
+  PMP::triangulate_faces(mesh);
+  if (stats) {
+    stats->polygons_removed = polys0 - soup.polygons.size();
+    stats->non_manifold_vertices_split = soup.points.size() - points0;
+  }
+  return mesh;
+}
+
+// CGAL has no spike filter: a spike is a vertex that sticks out of the plane of its one-ring by
+// more than `factor` × the ring's mean edge length (a smooth surface of curvature radius R has
+// offset ≈ e²/(2R) ≪ e there; a spike of 45° or steeper has offset ≥ e).
+std::size_t remove_spikes(SurfaceMesh& mesh, double factor, int passes) {
+  std::size_t moved = 0;
+  for (int pass = 0; pass < passes; ++pass) {
+    std::size_t moved_now = 0;
+    for (auto v : mesh.vertices()) {
+      if (mesh.is_border(v) || mesh.is_isolated(v)) continue;
+      std::vector<Point> ring;
+      for (auto h : CGAL::halfedges_around_target(mesh.halfedge(v), mesh)) ring.push_back(mesh.point(mesh.source(h)));
+      if (ring.size() < 3) continue;
+      Vector c(0, 0, 0);
+      for (const auto& q : ring) c = c + (q - CGAL::ORIGIN);
+      const Point centroid = CGAL::ORIGIN + c / double(ring.size());
+      Vector n(0, 0, 0);  // ring normal: sum of cross products of consecutive ring points
+      double edge = 0;
+      for (std::size_t i = 0; i < ring.size(); ++i) {
+        n = n + CGAL::cross_product(ring[i] - centroid, ring[(i + 1) % ring.size()] - centroid);
+        edge += std::sqrt(CGAL::squared_distance(ring[i], mesh.point(v)));
+      }
+      edge /= double(ring.size());
+      const double nn = std::sqrt(n.squared_length());
+      if (nn == 0 || edge == 0) continue;
+      const double offset = std::abs((mesh.point(v) - centroid) * n) / nn;
+      if (offset > factor * edge) {
+        mesh.point(v) = centroid;
+        ++moved_now;
+      }
+    }
+    moved += moved_now;
+    if (moved_now == 0) break;
+  }
+  return moved;
+}
+
+namespace {
+std::set<pipeline::FaceIndex> self_intersecting_faces(const SurfaceMesh& mesh) {
+  std::vector<std::pair<pipeline::FaceIndex, pipeline::FaceIndex>> pairs;
+  PMP::self_intersections(mesh, std::back_inserter(pairs));
+  std::set<pipeline::FaceIndex> faces;
+  for (const auto& p : pairs) {
+    faces.insert(p.first);
+    faces.insert(p.second);
+  }
+  return faces;
+}
+}  // namespace
+
+std::size_t count_self_intersecting_faces(const SurfaceMesh& mesh) { return self_intersecting_faces(mesh).size(); }
+
+std::size_t remove_self_intersecting_faces(SurfaceMesh& mesh) {
+  const auto faces = self_intersecting_faces(mesh);
+  if (faces.empty()) return 0;
+  // also the faces around them: a one-face gap between two crossing sheets would reappear
+  std::set<pipeline::FaceIndex> cut = faces;
+  for (auto f : faces)
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+      for (auto g : CGAL::faces_around_target(mesh.halfedge(v), mesh))
+        if (g != SurfaceMesh::null_face()) cut.insert(g);
+  for (auto f : cut) CGAL::Euler::remove_face(mesh.halfedge(f), mesh);
+  mesh.collect_garbage();
+  PMP::duplicate_non_manifold_vertices(mesh);
+  keep_largest_component(mesh);
+  return cut.size();
+}
+
+std::pair<std::size_t, std::size_t> keep_largest_component(SurfaceMesh& mesh) {
+  const std::size_t f0 = mesh.number_of_faces();
+  const std::size_t removed = PMP::keep_largest_connected_components(mesh, 1);
+  mesh.collect_garbage();
+  return {removed, f0 - mesh.number_of_faces()};
+}
+
+}  // namespace scan2cad::internal

@@ -1,0 +1,32 @@
+#pragma once
+/// Helpers of repair (internal): soup → mesh, spikes, self-intersections.
+#include <cstddef>
+
+#include "pipeline/surface_mesh.h"
+
+namespace scan2cad::internal {
+
+struct SoupStats {
+  std::size_t polygons_removed = 0, non_manifold_vertices_split = 0;
+};
+
+/// repair_polygon_soup + orient_polygon_soup + polygon_soup_to_polygon_mesh (CGAL); polygons
+/// with more than 3 sides are triangulated. The soup is taken by value (CGAL edits it).
+pipeline::SurfaceMesh soup_to_mesh(pipeline::PolygonSoup soup, SoupStats* stats);
+
+/// Moves spike vertices onto their one-ring centroid; @return the number of moves.
+/// A spike: distance from the vertex to the plane through the one-ring centroid with the
+/// one-ring normal > factor × mean one-ring edge length. Border vertices are left alone.
+std::size_t remove_spikes(pipeline::SurfaceMesh& mesh, double factor, int passes = 3);
+
+/// Faces that intersect another face (PMP::self_intersections).
+std::size_t count_self_intersecting_faces(const pipeline::SurfaceMesh& mesh);
+
+/// Deletes every self-intersecting face, splits the non-manifold vertices this leaves and
+/// keeps the largest component. @return the number of faces deleted.
+std::size_t remove_self_intersecting_faces(pipeline::SurfaceMesh& mesh);
+
+/// Keeps the largest connected component. @return {components removed, faces removed}.
+std::pair<std::size_t, std::size_t> keep_largest_component(pipeline::SurfaceMesh& mesh);
+
+}  // namespace scan2cad::internal

@@ -1,0 +1,55 @@
+#pragma once
+/// Facial landmarks of an aligned head (frame of align.h: x lateral, +x = the subject's left;
+/// y up; z out of the face; mm) and their JSON file (format: see README.md, "landmarks").
+///
+/// Detected: sellion, pronasale, subnasale, menton (midline profile x = 0), zygion_left/right,
+/// tragion_left/right, gonion_left/right (surface, each side on its own). Methods in
+/// landmarks_detect.cpp; each point carries a confidence in [0, 1].
+#include <Eigen/Core>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pipeline/surface_mesh.h"
+
+namespace scan2cad {
+
+struct Landmark {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< [mm], head frame
+  double confidence = 0.0;                              ///< 0 (guess) … 1 (clear feature)
+};
+
+struct Landmarks {
+  std::string source = "detected";  ///< "detected" or "user"
+  std::map<std::string, Landmark> points;
+};
+
+/// The landmarks every file must hold (extras such as subnasale are allowed).
+const std::vector<std::string>& required_landmarks();
+
+/// Detects the landmarks on an aligned head.
+/// @param[in] head  closed or open triangle surface in the head frame [mm]; not modified
+/// @return all required landmarks plus subnasale
+/// @throws pipeline::Error(algorithm) if the midline profile, the nose, the chin, the ears or
+///         the cheeks cannot be found (e.g. the head is not aligned).
+Landmarks detect_landmarks(const pipeline::SurfaceMesh& head);
+
+/// Menton–sellion distance [mm].
+double face_length(const Landmarks& l);
+/// Zygion–zygion distance [mm].
+double face_width(const Landmarks& l);
+
+/// The landmarks as JSON (frame, source, landmarks, measures_mm).
+std::string landmarks_json(const Landmarks& l);
+
+/// Reads and validates a landmarks file (a user's or ours): every required name present,
+/// positions 3 finite numbers, confidence in [0, 1], left points at x > 0 and right at x < 0.
+/// @throws pipeline::Error(bad_input) naming `path` and the first problem.
+Landmarks read_landmarks(const std::string& path);
+
+/// Checks that every landmark lies within `tolerance_mm` of the surface.
+/// @throws pipeline::Error(bad_input) naming `what` and the landmark otherwise.
+void check_landmarks_on_surface(const Landmarks& l, const pipeline::SurfaceMesh& head, const std::string& what,
+                                double tolerance_mm = 10.0);
+
+}  // namespace scan2cad

@@ -1,0 +1,63 @@
+#pragma once
+/// Surface reconstruction: a scanned point cloud [mm] becomes a triangle mesh.
+///
+/// Steps: (1) outlier removal (CGAL::remove_outliers on the k-NN distance), (2) normals by jet
+/// fitting and MST orientation when the cloud has none, (3) one CGAL reconstruction:
+///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
+///                      closed, smooth, fills scan holes; the default for heads;
+///   - advancing_front  interpolating advancing front on jet-smoothed points: keeps open
+///                      boundaries; the default for respirators (open shells);
+///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
+/// The defaults come from measurements on noisy NIOSH headform scans; see README.md.
+#include <cstddef>
+#include <string>
+
+#include "pipeline/surface_mesh.h"
+#include "scan2cad/scan_kind.h"
+
+namespace scan2cad {
+
+enum class ReconstructMethod { poisson, advancing_front, scale_space };
+
+/// Parses "poisson", "advancing_front", "scale_space" or "auto" (→ default for `kind`).
+/// @throws pipeline::Error(usage) otherwise.
+ReconstructMethod parse_reconstruct_method(const std::string& name, ScanKind kind);
+std::string reconstruct_method_name(ReconstructMethod m);
+
+struct ReconstructOptions {
+  ReconstructMethod method = ReconstructMethod::poisson;
+  /// neighbours for spacing, outliers, normals and smoothing; default 24, range 6–200
+  int neighbors = 24;
+  /// a point is an outlier when its mean distance to its k neighbours exceeds this many times
+  /// the cloud's median spacing; default 3, range > 1
+  double outlier_factor = 3.0;
+  /// grid simplification cell [mm] applied before reconstruction (0 = none); dense scans are
+  /// thinned to this spacing, which bounds time and memory; default 0.5 mm
+  double simplify_cell_mm = 0.5;
+};
+
+/// What reconstruct did, for the log and the tests.
+struct ReconstructStats {
+  std::size_t input_points = 0, outliers_removed = 0, points_used = 0;
+  bool normals_estimated = false;
+  double spacing_mm = 0;  ///< mean k-NN spacing of the points used [mm]
+  std::size_t vertices = 0, faces = 0;
+};
+
+/// Reconstructs a triangle mesh from `cloud`.
+///
+/// @param[in]  cloud  #P points [mm], normals optional (unit, any orientation is re-checked)
+/// @param[in]  kind   head or respirator (orientation check for closed heads)
+/// @param[in]  opt    ReconstructOptions
+/// @param[out] stats  optional
+/// @return a triangle mesh [mm], outward-oriented when closed
+/// @throws pipeline::Error(bad_input) when the cloud has fewer than 100 points (after outlier
+///         removal) — too few to define a surface; Error(algorithm) when CGAL fails.
+pipeline::SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind,
+                                  const ReconstructOptions& opt, ReconstructStats* stats = nullptr);
+
+/// Writes a polygon soup as binary PLY, atomically (meshes pass reconstruct unchanged).
+/// @throws pipeline::Error(io) when writing fails; `path` is then untouched.
+void write_soup_ply(const std::string& path, const pipeline::PolygonSoup& soup);
+
+}  // namespace scan2cad

@@ -1,0 +1,185 @@
+// repair: soup → clean manifold surface (steps in repair.h).
+#include "scan2cad/repair.h"
+
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/manifoldness.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
+#include <CGAL/Polygon_mesh_processing/smooth_shape.h>
+
+#include <cmath>
+#include <iterator>
+#include <sstream>
+
+#include "pipeline/error.h"
+#include "pipeline/progress.h"
+#include "scan2cad/internal/cleanup.h"
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using pipeline::SurfaceMesh;
+
+namespace scan2cad {
+
+namespace {
+
+std::size_t count_boundary_loops(const SurfaceMesh& mesh) {
+  std::vector<SurfaceMesh::Halfedge_index> loops;
+  PMP::extract_boundary_cycles(mesh, std::back_inserter(loops));
+  return loops.size();
+}
+
+// Isotropic remeshing; on an open shell the border is first split to the target length and
+// then protected, so the rim stays where it is (CGAL's recommended recipe).
+void remesh(SurfaceMesh& mesh, double target, int iterations) {
+  auto constrained = mesh.add_property_map<SurfaceMesh::Edge_index, bool>("e:rf_border", false).first;
+  std::vector<SurfaceMesh::Edge_index> border;
+  PMP::border_halfedges(faces(mesh), mesh, boost::make_function_output_iterator([&](SurfaceMesh::Halfedge_index h) {
+                          border.push_back(mesh.edge(h));
+                        }));
+  if (!border.empty()) {
+    PMP::split_long_edges(border, target, mesh);
+    for (auto e : mesh.edges())
+      if (mesh.is_border(e)) constrained[e] = true;
+  }
+  PMP::isotropic_remeshing(faces(mesh), target, mesh,
+                           CGAL::parameters::number_of_iterations(iterations)
+                               .edge_is_constrained_map(constrained)
+                               .protect_constraints(!border.empty()));
+  mesh.remove_property_map(constrained);
+  mesh.collect_garbage();
+}
+
+}  // namespace
+
+SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const RepairOptions& opt, RepairReport* report_out) {
+  RepairReport r;
+  r.input_vertices = soup.points.size();
+  r.input_faces = soup.polygons.size();
+  pipeline::Progress progress("repair", 0);
+
+  // 1. Soup → mesh, degenerate faces.
+  progress.step("polygon soup to manifold mesh");
+  internal::SoupStats ss;
+  SurfaceMesh mesh = internal::soup_to_mesh(soup, &ss);
+  r.soup_polygons_removed = ss.polygons_removed;
+  r.non_manifold_vertices_split = ss.non_manifold_vertices_split;
+  const std::size_t f0 = mesh.number_of_faces();
+  PMP::remove_degenerate_faces(mesh);
+  mesh.collect_garbage();
+  r.degenerate_faces_removed = f0 > mesh.number_of_faces() ? f0 - mesh.number_of_faces() : 0;
+  if (mesh.number_of_faces() == 0) throw pipeline::bad_input("mesh", "no usable faces after removing degenerate ones");
+
+  // 2. Small components.
+  std::tie(r.components_removed, r.component_faces_removed) = internal::keep_largest_component(mesh);
+
+  // 3. Spikes.
+  progress.step("spikes");
+  r.spike_vertices_moved = internal::remove_spikes(mesh, opt.spike_factor);
+
+  // 4. Self-intersections.
+  progress.step("self-intersections");
+  r.self_intersecting_faces_before = internal::count_self_intersecting_faces(mesh);
+  r.self_intersecting_faces_removed = internal::remove_self_intersecting_faces(mesh);
+
+  // 5. Holes.
+  progress.step("hole filling");
+  r.holes = fill_holes(mesh, kind);
+
+  // 6. Relaxation: mean-curvature flow, then isotropic remeshing.
+  if (opt.smoothing_iterations > 0) {
+    progress.step("smoothing");
+    // smooth_shape keeps border vertices fixed, so the respirator rim does not shrink
+    PMP::smooth_shape(mesh, opt.smoothing_time, CGAL::parameters::number_of_iterations(opt.smoothing_iterations));
+    r.smoothing_iterations = opt.smoothing_iterations;
+  }
+  if (opt.target_edge_mm > 0) {
+    progress.step("isotropic remeshing to " + std::to_string(opt.target_edge_mm) + " mm");
+    remesh(mesh, opt.target_edge_mm, opt.remesh_iterations);
+    r.target_edge_mm = opt.target_edge_mm;
+  }
+
+  // 7. Self-intersections the remeshing made (rare, at tight folds): cut out and refill.
+  for (int round = 0; round < 3; ++round) {
+    if (internal::count_self_intersecting_faces(mesh) == 0) break;
+    progress.step("removing self-intersections created by remeshing, round " + std::to_string(round + 1));
+    r.self_intersecting_faces_removed += internal::remove_self_intersecting_faces(mesh);
+    for (const auto& h : fill_holes(mesh, kind))
+      if (!h.kept_open) r.holes.push_back(h);
+  }
+
+  // Checks and orientation.
+  r.closed = CGAL::is_closed(mesh);
+  if (r.closed && !PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);
+  r.self_intersecting_after = internal::count_self_intersecting_faces(mesh) > 0;
+  // a Surface_mesh is edge-manifold by construction; vertices are checked here
+  std::size_t nm = 0;
+  for (auto v : mesh.vertices())
+    if (PMP::is_non_manifold_vertex(v, mesh)) ++nm;
+  r.manifold = nm == 0;
+  r.boundary_loops_after = count_boundary_loops(mesh);
+  r.output_vertices = mesh.number_of_vertices();
+  r.output_faces = mesh.number_of_faces();
+  double total = 0;
+  for (auto e : mesh.edges()) total += PMP::edge_length(e, mesh);
+  r.mean_edge_mm = mesh.number_of_edges() ? total / double(mesh.number_of_edges()) : 0;
+  r.area_mm2 = PMP::area(mesh);
+  r.volume_mm3 = r.closed ? PMP::volume(mesh) : 0;
+  progress.finish(std::to_string(r.output_faces) + " triangles, " + (r.closed ? "closed" : "open"));
+  if (report_out) *report_out = r;
+
+  if (kind == ScanKind::head && !r.closed)
+    throw pipeline::algorithm_failed("mesh", std::to_string(r.boundary_loops_after) +
+                                                 " boundary loops remain, expected a closed head surface");
+  if (r.self_intersecting_after)
+    throw pipeline::algorithm_failed("mesh", "self-intersections remain after 3 rounds of repair");
+  return mesh;
+}
+
+nlohmann::json RepairReport::to_json() const {
+  nlohmann::json holes_j = nlohmann::json::array();
+  for (const auto& h : holes)
+    holes_j.push_back({{"boundary_edges", h.boundary_edges}, {"perimeter_mm", h.perimeter_mm},
+                       {"diameter_mm", h.diameter_mm}, {"kept_open", h.kept_open}, {"filled", h.filled},
+                       {"faired", h.faired}, {"faces_added", h.faces_added}});
+  std::size_t filled = 0;
+  for (const auto& h : holes) filled += h.filled;
+  return {{"input", {{"vertices", input_vertices}, {"faces", input_faces}}},
+          {"soup_polygons_removed", soup_polygons_removed},
+          {"non_manifold_vertices_split", non_manifold_vertices_split},
+          {"degenerate_faces_removed", degenerate_faces_removed},
+          {"small_components_removed", components_removed},
+          {"small_component_faces_removed", component_faces_removed},
+          {"spike_vertices_moved", spike_vertices_moved},
+          {"self_intersecting_faces_before", self_intersecting_faces_before},
+          {"self_intersecting_faces_removed", self_intersecting_faces_removed},
+          {"holes_filled", filled},
+          {"holes", holes_j},
+          {"smoothing_iterations", smoothing_iterations},
+          {"target_edge_mm", target_edge_mm},
+          {"mean_edge_mm", mean_edge_mm},
+          {"output", {{"vertices", output_vertices}, {"faces", output_faces}}},
+          {"boundary_loops_after", boundary_loops_after},
+          {"closed", closed},
+          {"manifold", manifold},
+          {"self_intersecting_after", self_intersecting_after},
+          {"area_mm2", area_mm2},
+          {"volume_mm3", volume_mm3}};
+}
+
+std::string RepairReport::summary() const {
+  std::size_t filled = 0;
+  for (const auto& h : holes) filled += h.filled;
+  std::ostringstream s;
+  s << "in " << input_faces << " faces; removed: " << soup_polygons_removed << " soup polygons, "
+    << degenerate_faces_removed << " degenerate faces, " << components_removed << " small components ("
+    << component_faces_removed << " faces), " << self_intersecting_faces_removed << " self-intersecting faces; "
+    << spike_vertices_moved << " spike vertices moved; " << filled << " holes filled; out " << output_faces
+    << " faces, mean edge " << mean_edge_mm << " mm, " << (closed ? "closed" : "open") << ", "
+    << (manifold ? "manifold" : "NON-manifold") << ", "
+    << (self_intersecting_after ? "self-intersecting" : "no self-intersections");
+  return s.str();
+}
+
+}  // namespace scan2cad

@@ -1,0 +1,77 @@
+#pragma once
+/// Repair of a reconstructed or scanned surface into a clean, manifold triangle mesh.
+///
+/// Steps, in order (each counted in RepairReport):
+///  1. soup → mesh: CGAL repair_polygon_soup (duplicate points, degenerate and duplicate
+///     polygons), orient_polygon_soup (non-manifold vertices are split),
+///     polygon_soup_to_polygon_mesh; then remove_degenerate_faces;
+///  2. small disconnected components are removed (the largest one is kept);
+///  3. spikes: a vertex farther from the plane of its one-ring than `spike_factor` × its mean
+///     edge length is moved onto the one-ring centroid (no library does this; see cleanup.cpp);
+///  4. self-intersecting faces are deleted (their holes are filled in step 5);
+///  5. holes are filled with triangulate_refine_and_fair_hole (see fill_holes.h for which
+///     boundary loops stay open: none on a head, the largest — the rim — on a respirator);
+///  6. the surface is relaxed: `smoothing_iterations` steps of mean-curvature flow
+///     (PMP::smooth_shape) and then isotropic remeshing to `target_edge_mm` (tangential
+///     relaxation included); a respirator's rim is split to the target length and kept in place;
+///  7. any self-intersection the remeshing created is cut out and filled again (≤ 3 rounds).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "pipeline/surface_mesh.h"
+#include "scan2cad/fill_holes.h"
+#include "scan2cad/scan_kind.h"
+
+namespace scan2cad {
+
+struct RepairOptions {
+  /// target edge length of the isotropic remeshing [mm]; default 1.5, 0 = no remeshing
+  double target_edge_mm = 1.5;
+  /// remeshing iterations; default 3, range 1–20
+  int remesh_iterations = 3;
+  /// mean-curvature-flow steps (PMP::smooth_shape); default 1, 0 = none
+  int smoothing_iterations = 1;
+  /// time step of smooth_shape (CGAL's unit); default 1e-4, range > 0
+  double smoothing_time = 1e-4;
+  /// spike threshold: distance to the one-ring plane / mean one-ring edge length; default 1.0
+  double spike_factor = 1.0;
+};
+
+/// What repair changed, as written to the JSON report.
+struct RepairReport {
+  std::size_t input_vertices = 0, input_faces = 0;
+  std::size_t soup_polygons_removed = 0;      ///< by repair_polygon_soup (duplicates, degenerate)
+  std::size_t non_manifold_vertices_split = 0;  ///< by orient_polygon_soup
+  std::size_t degenerate_faces_removed = 0;
+  std::size_t components_removed = 0, component_faces_removed = 0;
+  std::size_t spike_vertices_moved = 0;
+  std::size_t self_intersecting_faces_before = 0, self_intersecting_faces_removed = 0;
+  std::vector<HoleInfo> holes;                ///< every boundary loop met, filled or kept open
+  int smoothing_iterations = 0;
+  double target_edge_mm = 0, mean_edge_mm = 0;
+  std::size_t output_vertices = 0, output_faces = 0;
+  std::size_t boundary_loops_after = 0;
+  bool closed = false, manifold = false, self_intersecting_after = false;
+  double area_mm2 = 0, volume_mm3 = 0;  ///< volume only when closed
+
+  nlohmann::json to_json() const;
+  /// A few lines for stderr.
+  std::string summary() const;
+};
+
+/// Repairs a polygon soup into a clean surface.
+///
+/// @param[in]  soup    #P points [mm] and polygons (any orientation, may be non-manifold)
+/// @param[in]  kind    head (closed output) or respirator (rim kept open)
+/// @param[in]  opt     RepairOptions
+/// @param[out] report  what was changed (optional)
+/// @return a manifold triangle mesh [mm], outward-oriented when closed
+/// @throws pipeline::Error(bad_input) when the soup has no usable faces;
+///         Error(algorithm) when a head cannot be closed or self-intersections remain.
+pipeline::SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const RepairOptions& opt,
+                             RepairReport* report = nullptr);
+
+}  // namespace scan2cad

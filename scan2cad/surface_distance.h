@@ -1,0 +1,27 @@
+#pragma once
+/// Distances between two surfaces, to judge a reconstruction against its reference.
+#include <cstddef>
+
+#include "pipeline/surface_mesh.h"
+
+namespace scan2cad {
+
+struct SurfaceDistance {
+  double hausdorff_mm = 0;    ///< symmetric: max over both directions [mm]
+  double a_to_b_max_mm = 0;   ///< max over samples of a of the distance to b [mm]
+  double b_to_a_max_mm = 0;
+  double p95_mm = 0;          ///< 95th percentile of the pooled distances of both directions [mm]
+  double mean_mm = 0;
+};
+
+/// Samples `samples_per_mesh` points uniformly on each mesh (PMP::sample_triangle_mesh, plus
+/// every vertex) and measures each sample's distance to the other mesh with an AABB tree.
+/// The maximum over samples is the symmetric Hausdorff distance up to the sampling density.
+///
+/// @param[in] a, b  triangle meshes [mm], non-empty
+/// @param[in] samples_per_mesh  random points per mesh; default 200,000; seed fixed
+/// @throws pipeline::Error(bad_input) if either mesh has no faces
+SurfaceDistance surface_distance(const pipeline::SurfaceMesh& a, const pipeline::SurfaceMesh& b,
+                                 std::size_t samples_per_mesh = 200000);
+
+}  // namespace scan2cad
