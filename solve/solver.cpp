@@ -215,8 +215,11 @@ void Solver::step() {
     health_ = "contact penetration " + std::to_string(pen) + " mm deeper than the tolerance " +
               std::to_string(m.control.penetration_tolerance) + " mm";
   if (m.control.dt_target <= 0 && s.step % m.control.dt_update_interval == 0 && health_.empty()) {
-    s.dt_stable = std::min(s.compute_stable_dt(), s.dt_stable * 1e6);
-    if (std::isfinite(s.dt_stable)) s.dt = m.control.dt_scale * s.dt_stable;
+    const double d = s.compute_stable_dt();  // +inf when only rigid parts: keep the step
+    if (std::isfinite(d)) {
+      s.dt_stable = d;
+      s.dt = m.control.dt_scale * d;
+    }
   }
 }
 
