@@ -1,6 +1,7 @@
 #include "solve/load_model.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -346,6 +347,9 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
 Model load_model(const std::string& msh_path, const std::string& deck_path) {
   Model m = read_msh(msh_path);
   apply_deck(m, pipeline::read_text(deck_path), deck_path);
+  // a relative initial_state path is relative to the deck's directory
+  if (!m.initial_state.file.empty() && std::filesystem::path(m.initial_state.file).is_relative())
+    m.initial_state.file = (std::filesystem::path(deck_path).parent_path() / m.initial_state.file).string();
   return m;
 }
 

@@ -81,7 +81,8 @@ RunSummary run(const Model& model, const RunOptions& opt) {
       for (const char* d : {"x", "y", "z"}) forces_csv += "," + g + "_" + k + "_F" + d;
   forces_csv += "\n";
   // 3. Time loop.
-  pipeline::Progress progress("solve", std::size_t(std::max(1.0, (c.end_time - s.time()) / s.dt())));
+  pipeline::Progress progress("solve", std::size_t(std::max(1.0, (c.end_time - s.time()) / s.dt())),
+                              opt.progress ? 2.0 : 1e30);
   const double t0 = s.time();
   double next_out = t0, next_hist = t0, emax = 0, max_pen = 0;
   int frame = 0;

@@ -260,3 +260,39 @@ TEST(solver, contact_pair_carries_load_to_rigid_base) {
   EXPECT_GT(pmax, 0.5 * 0.01 / 4);
   EXPECT_LT(s.max_penetration(), 0.05);
 }
+
+// No volumetric locking: the static tip deflection of a cantilever (20 × 1 × 2 elements, end
+// load, dynamic relaxation) barely depends on ν for a slender beam (Timoshenko: shear term ~2 %
+// here). A locking element at ν = 0.49 is several times too stiff. Accepted: the ν = 0.49 tip
+// deflection is within 20 % of the ν = 0.3 one (hourglass stiffness scales with μ = E/2(1+ν), a
+// ~13 % effect on this coarse mesh, plus the Poisson effect on the cross-section).
+TEST(locking, cantilever_at_nu_049_does_not_lock) {
+  auto tip = [](ElementType t, double nu) {
+    solve::BlockSpec b;
+    b.type = t;
+    b.nx = 20; b.ny = 1; b.nz = 2;
+    b.size = {10, 1, 1};
+    solve::Model m = solve::make_block(b, {"soft", 1e-5, 1.0, nu, false});
+    for (int d = 0; d < 3; ++d) m.bcs.push_back({"xmin", d, solve::BcKind::fixed, {}});
+    m.loads.push_back({"xmax", 2, solve::Curve{{0, 2, 100}, {0, -1e-4, -1e-4}}});
+    m.control.damping_alpha = 3.0;
+    solve::Solver s(m);
+    s.run_until(12.0);
+    EXPECT_TRUE(s.health().empty());
+    double w = 0;
+    const auto& g = m.group("xmax");
+    for (int id : g) w += (s.x()[3 * id + 2] - m.X[3 * id + 2]) / double(g.size());
+    return w;
+  };
+  for (ElementType t : {ElementType::wedge6, ElementType::hex8}) {
+    const double w03 = tip(t, 0.3), w049 = tip(t, 0.49);
+    // beam theory P L³ / (3 E I) = 1e-4 · 1000 / (3 · 1/12) = 0.4 mm
+    std::printf("%s cantilever tip: nu=0.3 %.4f mm, nu=0.49 %.4f mm (beam theory 0.4)\n", solve::element_name(t),
+                w03, w049);
+    ASSERT_LT(w03, 0);
+    EXPECT_GT(w049 / w03, 0.8) << solve::element_name(t);
+    EXPECT_LT(w049 / w03, 1.2) << solve::element_name(t);
+    // and near beam theory (+ shear deformation and the coarse mesh's bending error): 25 %
+    EXPECT_NEAR(-w049, 0.4, 0.1) << solve::element_name(t);
+  }
+}

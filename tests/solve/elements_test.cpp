@@ -79,9 +79,12 @@ TEST(patch_test, wedge_irregular_mesh_uniform_strain_exact) { patch_test(irregul
 TEST(patch_test, hex_irregular_mesh_uniform_strain_exact) { patch_test(irregular_block(ElementType::hex8)); }
 TEST(patch_test, tet_irregular_mesh_uniform_strain_exact) { patch_test(irregular_block(ElementType::tet4)); }
 
-TEST(patch_test, quad_membrane_irregular_mesh_uniform_strain_exact) {
+class membrane_patch : public ::testing::TestWithParam<ElementType> {};
+INSTANTIATE_TEST_SUITE_P(patch_test, membrane_patch, ::testing::Values(ElementType::quad4, ElementType::tri3));
+
+TEST_P(membrane_patch, irregular_mesh_uniform_strain_exact) {
   solve::PlateSpec p;
-  p.type = ElementType::quad4;
+  p.type = GetParam();
   p.nx = 5; p.ny = 4;
   p.size = {5, 4};
   p.jitter = 0.25;
