@@ -245,9 +245,10 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
     auto mi = std::find_if(m.materials.begin(), m.materials.end(),
                            [&](const Material& x) { return x.name == str(d, o, "material", w); });
     if (mi == m.materials.end()) throw d.bad(w + ": unknown material '" + str(d, o, "material", w) + "'");
-    bool found = false;
+    bool found = false, has_solid = false;
+    for (const auto& p : m.parts) has_solid = has_solid || (p.name == g && !is_membrane(p.type));
     for (const auto& p : m.parts)
-      if (p.name == g) {
+      if (p.name == g && (!has_solid || !is_membrane(p.type))) {  // solids win over their own faces
         Part q = p;
         q.material = int(mi - m.materials.begin());
         if (is_membrane(q.type)) q.thickness = num(d, o, "thickness", w, 0, true);

@@ -259,6 +259,15 @@ TEST(solver, contact_pair_carries_load_to_rigid_base) {
   for (double v : p) pmax = std::max(pmax, v);
   EXPECT_GT(pmax, 0.5 * 0.01 / 4);
   EXPECT_LT(s.max_penetration(), 0.05);
+  // the same model through run(): the energy balance (with contact work) stays within the guard
+  solve::RunOptions o;
+  o.out_dir = temp_dir("contact_run");
+  o.progress = false;
+  const solve::RunSummary r = solve::run(m, o);
+  const solve::Energies& e = r.energies;
+  std::printf("contact run: kinetic %.3g internal %.3g contact %.3g damping %.3g external %.3g balance %.3g mJ\n",
+              e.kinetic, e.internal, e.contact, e.damping, e.external, e.balance);
+  EXPECT_LT(std::fabs(e.balance), 0.01 * e.external);
 }
 
 // No volumetric locking: the static tip deflection of a cantilever (20 × 1 × 2 elements, end
