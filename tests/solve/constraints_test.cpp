@@ -103,3 +103,31 @@ TEST(rigid_body, constant_force_gives_uniform_acceleration) {
   // v_{n+½} = a (n+1) dt  →  x_n = a dt² n(n+1)/2 = ½ a t (t + dt)
   EXPECT_NEAR(s.x()[0] - m.X[0], 0.5 * a * t * (t + s.dt()), 1e-9 * (1 + a * t * t));
 }
+
+// A membrane strap (quad4 and tri3) stretched 1 % with free lateral contraction carries
+// F = w t (1+ε) E (ε + ε²/2) (St.Venant–Kirchhoff, uniaxial plane stress, reference area).
+// Tolerance 1e-4 relative: static state reached by damping (residual dynamics ~ e^-20).
+TEST(membrane, uniaxial_tension_matches_svk) {
+  for (ElementType t : {ElementType::quad4, ElementType::tri3}) {
+    solve::PlateSpec p;
+    p.type = t;
+    p.nx = 10; p.ny = 2;
+    p.size = {10, 2};
+    p.thickness = 0.5;
+    p.jitter = 0.2;
+    solve::Model m = solve::make_plate(p, {"strap", 1.1e-3, 10.2, 0.3, false});
+    m.node_groups["corner"] = {0};
+    const double eps = 0.01;
+    m.bcs.push_back({"all", 2, solve::BcKind::fixed, {}});
+    m.bcs.push_back({"xmin", 0, solve::BcKind::fixed, {}});
+    m.bcs.push_back({"corner", 1, solve::BcKind::fixed, {}});
+    m.bcs.push_back({"xmax", 0, solve::BcKind::displacement, solve::Curve{{0, 1, 100}, {0, 10 * eps, 10 * eps}}});
+    m.control.damping_alpha = 5.0;
+    solve::Solver s(m);
+    s.run_until(6.0);
+    ASSERT_TRUE(s.health().empty());
+    const double expected = 2 * 0.5 * (1 + eps) * 10.2 * (eps + 0.5 * eps * eps);
+    EXPECT_NEAR(s.reaction("xmax")[0], expected, 1e-4 * expected) << solve::element_name(t);
+    EXPECT_NEAR(s.reaction("xmin")[0], -expected, 1e-4 * expected) << solve::element_name(t);
+  }
+}
