@@ -1,0 +1,79 @@
+// Reading models: gmsh .msh round trip, surfaces of 3D groups, deck errors.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "pipeline/error.h"
+#include "solve/load_model.h"
+#include "solve/make_block.h"
+#include "solve/write_results.h"
+
+namespace {
+namespace fs = std::filesystem;
+using solve::ElementType;
+
+// ∮ x·n dA = 3V for a closed outward-oriented surface (divergence theorem).
+double flux(const solve::Model& m, const std::vector<std::array<int, 3>>& tris) {
+  double s = 0;
+  for (const auto& t : tris) {
+    const double* a = &m.X[3 * t[0]];
+    const double* b = &m.X[3 * t[1]];
+    const double* c = &m.X[3 * t[2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    s += (a[0] * n[0] + a[1] * n[1] + a[2] * n[2]) / 2;
+  }
+  return s;
+}
+
+}  // namespace
+
+// The boundary of a 3D group read from a .msh is closed and outward: its flux ∮x·n dA is 3V
+// (exact up to round-off: 1e-9 relative). The named face groups survive the round trip.
+TEST(read_msh, surface_of_3d_group_is_closed_and_outward) {
+  const std::string path = (fs::temp_directory_path() / ("solve_rt_" + std::to_string(::getpid()) + ".msh")).string();
+  for (ElementType t : {ElementType::wedge6, ElementType::hex8, ElementType::tet4}) {
+    solve::BlockSpec b;
+    b.type = t;
+    b.nx = 3; b.ny = 2; b.nz = 2;
+    b.size = {3, 2, 2};
+    b.jitter = 0.2;
+    const solve::Model src = solve::make_block(b, {"m", 1e-3, 1, 0.3, false});
+    solve::write_mesh_msh(src, path);
+    const solve::Model m = solve::read_msh(path);
+    ASSERT_EQ(m.n_nodes(), src.n_nodes());
+    EXPECT_NEAR(flux(m, m.surface("block")), 3 * 12.0, 1e-9 * 36) << solve::element_name(t);
+    EXPECT_EQ(m.group("xmin"), src.group("xmin"));
+    EXPECT_EQ(m.surface("zmax").size(), src.surface("zmax").size());
+  }
+  fs::remove(path);
+}
+
+// Deck errors name the deck and the key.
+TEST(apply_deck, errors_name_the_key) {
+  const solve::Model base = solve::make_block({}, {"m", 1e-3, 1, 0.3, false});
+  auto message = [&](const std::string& deck) {
+    solve::Model m = base;
+    try {
+      solve::apply_deck(m, deck, "d.json");
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string mat = R"("materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.3}}, "parts": [{"group": "block", "material": "m"}])";
+  EXPECT_NE(message("{" + mat + "}").find("control"), std::string::npos);
+  EXPECT_NE(message("{" + mat + R"(, "control": {"end_time": -1}})").find("end_time"), std::string::npos);
+  EXPECT_NE(message("{" + mat + R"(, "control": {"end_time": 1, "dt_sclae": 1}})").find("dt_sclae"), std::string::npos);
+  EXPECT_NE(message("{" + mat + R"(, "fixed": [{"group": "nope"}], "control": {"end_time": 1}})").find("nope"),
+            std::string::npos);
+  EXPECT_NE(message("{" + mat + R"(, "prescribed": [{"group": "xmin", "type": "velocity", "dof": "w", "curve": [[0,1]]}], "control": {"end_time": 1}})")
+                .find("dof"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.5}}, "parts": [{"group": "block", "material": "m"}], "control": {"end_time": 1}})")
+                .find("nu"),
+            std::string::npos);
+  EXPECT_EQ(message("{" + mat + R"(, "control": {"end_time": 1}})"), "no error");
+}
