@@ -305,3 +305,65 @@ TEST(locking, cantilever_at_nu_049_does_not_lock) {
     EXPECT_NEAR(-w049, 0.4, 0.1) << solve::element_name(t);
   }
 }
+
+// Mass scaling: a target step 5× the stable one adds mass (reported), the run stays stable and
+// reaches the same static state (the static answer does not depend on mass; 1e-4 relative after
+// damping out the dynamics).
+TEST(mass_scaling, target_step_adds_mass_and_keeps_static_answer) {
+  solve::Model m = busy_block();
+  m.bcs.erase(m.bcs.begin() + 3);  // keep only the fixed base and the load
+  m.control.damping_alpha = 2.0;
+  m.control.end_time = 10;
+  solve::Solver ref(m);
+  const double dt0 = ref.dt();
+  m.control.dt_target = 5 * dt0;
+  solve::Solver s(m);
+  EXPECT_EQ(s.dt(), 5 * dt0);
+  EXPECT_GT(s.added_mass(), 0);
+  EXPECT_NEAR(s.total_mass() - s.added_mass(), ref.total_mass(), 1e-12 * ref.total_mass());
+  ref.run_until(8);
+  s.run_until(8);
+  ASSERT_TRUE(s.health().empty()) << s.health();
+  const auto& xa = ref.x();
+  const auto& xb = s.x();
+  double umax = 0, err = 0;
+  for (std::size_t k = 0; k < xa.size(); ++k) {
+    umax = std::max(umax, std::fabs(xa[k] - m.X[k]));
+    err = std::max(err, std::fabs(xa[k] - xb[k]));
+  }
+  EXPECT_GT(umax, 1e-3);
+  EXPECT_LT(err, 1e-3 * umax);
+}
+
+// Penetration guard: the block pressed on the base penetrates ~2 µm; a tolerance of 0.1 µm stops
+// the run with the diagnostic state and no results.
+TEST(run, guard_trips_on_penetration) {
+  solve::BlockSpec base;
+  base.type = ElementType::hex8;
+  base.nx = 3; base.ny = 3; base.nz = 1;
+  base.size = {4, 4, 1};
+  base.origin = {-1, -1, -1};
+  solve::Model m = solve::make_block(base, {"bone", 4.5e-3, 1000, 0.3, true});
+  solve::BlockSpec top;
+  top.type = ElementType::wedge6;
+  top.size = {2, 2, 1};
+  solve::Model t = solve::make_block(top, {"skin", 1.2e-3, 0.6, 0.45, false});
+  t.loads.push_back({"zmax", 2, solve::Curve{{0, 1, 10}, {0, -0.01, -0.01}}});
+  solve::append_model(m, t, "top_");
+  for (int d = 0; d < 3; ++d) m.bcs.push_back({"all", d, solve::BcKind::fixed, {}});
+  m.contacts.push_back({"top_on_base", "top_zmin", "zmax", 0.1, 0.1, 0.0, false});
+  m.control.damping_alpha = 2.0;
+  m.control.end_time = 3;
+  m.control.penetration_tolerance = 1e-4;
+  solve::RunOptions o;
+  o.out_dir = temp_dir("pen_guard");
+  o.progress = false;
+  try {
+    solve::run(m, o);
+    FAIL() << "no error";
+  } catch (const pipeline::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("penetration"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::exists(o.out_dir + "/diverged_state.bin"));
+  EXPECT_FALSE(fs::exists(o.out_dir + "/results.msh"));
+}
