@@ -168,8 +168,8 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
     const double above_jaw = -(ny * (y - py) + nz * (z - pz));
     const double below_top = y - y_top;
     fface[v] = smooth_max({in_front, above_jaw, below_top}, blend_mm);
-    const double w = 0.12 * face_length;
-    ffore[v] = y - (lm.sellion[1] - 0.15 * face_length - 0.10 * face_length * std::exp(-(x * x) / (w * w)));
+    const double w = 0.15 * face_length;
+    ffore[v] = y - (lm.sellion[1] - 0.15 * face_length - 0.05 * face_length * std::exp(-(x * x) / (w * w)));
     fchin[v] = y - (y_mouth - (y_mouth - gy) * (x / gx) * (x / gx));
     fside[v] = x;
   }

@@ -11,7 +11,7 @@
 ///                  gonia and a point under the chin (keeps the under-chin, drops the neck), below
 ///                  the upper forehead (sellion + 0.45 face length); corners rounded (radius 8 mm);
 ///   forehead     = face region above a line 0.15 face length below the sellion that dips to
-///                  0.25 face length below it on the midline (the nasal bridge);
+///                  0.20 face length below it on the midline (the nasal bridge);
 ///   chin         = face region below a parabola through the mouth level (menton + 0.35 face
 ///                  length) on the midline and the gonia laterally (includes the under-chin);
 ///   cheeks       = the rest of the face region, split by the sagittal plane x = 0.
