@@ -4,6 +4,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -62,42 +64,49 @@ void head_axes(const SurfaceSamples& s, const internal::Plane& pl, const Vector3
   for (const auto& p : s.p)
     if (std::abs(pl.n.dot(p) - pl.d) < 8.0) mid.push_back(p);
   if (mid.size() < 20) throw pipeline::algorithm_failed("head", "too few surface points near the symmetry plane");
-  // 2. Up: 70–100 mm above the nose tip the midline front profile is the forehead (forward);
-  //    as far below it lies the neck, far behind the tip.
   auto nose_tip = [&](const Vector3d& dir) {
     Vector3d tip = mid.front();
     for (const auto& p : mid)
       if (p.dot(dir) > tip.dot(dir)) tip = p;
     return tip;
   };
-  Vector3d tip = nose_tip(z);
-  y = pl.n.cross(z).normalized();
-  const double f_up = support(mid, tip, y, 70.0, 100.0, z), f_down = support(mid, tip, -y, 70.0, 100.0, z);
-  if (!std::isfinite(f_up) && !std::isfinite(f_down))
-    throw pipeline::algorithm_failed("head", "cannot tell up from down: no midline surface 70-100 mm from the nose tip");
-  if (f_down > f_up) y = -y;
-  // 3. Pitch: the face looks perpendicular to its profile line, the common tangent of the
+  // 2. Pitch: the face looks perpendicular to its profile line, the common tangent of the
   //    forehead (45–120 mm above the nose tip) and the lips/chin (30–110 mm below), which leaves
   //    out the nose. Iterated so that the bands are measured in the final frame.
-  for (int it = 0; it < 4; ++it) {
-    tip = nose_tip(z);
-    auto gap = [&](double t) {  // forehead minus chin support along z rotated by t toward y
-      const Vector3d d = std::cos(t) * z + std::sin(t) * y;
-      return support(mid, tip, y, 45.0, 120.0, d) - support(mid, tip, y, -110.0, -30.0, d);
-    };
-    double lo = -0.7, hi = 0.7;  // ±40°: gap increases with t (forehead is above the chin)
-    if (!(gap(lo) < 0.0 && gap(hi) > 0.0))
-      throw pipeline::algorithm_failed("head", "no forehead-chin profile line found near the nose");
-    for (int k = 0; k < 50; ++k) {
-      const double m = 0.5 * (lo + hi);
-      (gap(m) > 0.0 ? hi : lo) = m;
+  auto pitch = [&](Vector3d& yy, Vector3d& zz) {
+    for (int it = 0; it < 10; ++it) {
+      const Vector3d tip = nose_tip(zz);
+      auto gap = [&](double t) {  // forehead minus chin support along z rotated by t toward y
+        const Vector3d d = std::cos(t) * zz + std::sin(t) * yy;
+        return support(mid, tip, yy, 45.0, 120.0, d) - support(mid, tip, yy, -110.0, -30.0, d);
+      };
+      double lo = -0.7, hi = 0.7;  // ±40°: gap increases with t (forehead is above the chin)
+      if (!(gap(lo) < 0.0 && gap(hi) > 0.0)) return false;
+      for (int k = 0; k < 50; ++k) {
+        const double m = 0.5 * (lo + hi);
+        (gap(m) > 0.0 ? hi : lo) = m;
+      }
+      const double t = 0.5 * (lo + hi);
+      const Vector3d z2 = (std::cos(t) * zz + std::sin(t) * yy).normalized();
+      yy = (std::cos(t) * yy - std::sin(t) * zz).normalized();
+      zz = z2;
+      if (std::abs(t) < 1e-6) break;
     }
-    const double t = 0.5 * (lo + hi);
-    const Vector3d z2 = (std::cos(t) * z + std::sin(t) * y).normalized();
-    y = (std::cos(t) * y - std::sin(t) * z).normalized();
-    z = z2;
-    if (std::abs(t) < 1e-6) break;
+    return true;
+  };
+  // 3. Up: try both senses; in the right one, 70–100 mm above the nose tip the midline front
+  //    profile is the forehead (forward), as far below it the neck (far behind the tip).
+  double best_margin = -std::numeric_limits<double>::infinity();
+  const Vector3d z0 = z;
+  for (int sgn : {+1, -1}) {
+    Vector3d yy = sgn * pl.n.cross(z0).normalized(), zz = z0;
+    if (!pitch(yy, zz)) continue;
+    const Vector3d tip = nose_tip(zz);
+    const double margin = support(mid, tip, yy, 70.0, 100.0, zz) - support(mid, tip, -yy, 70.0, 100.0, zz);
+    if (std::isfinite(margin) && margin > best_margin) best_margin = margin, y = yy, z = zz;
   }
+  if (!(best_margin > 0.0))
+    throw pipeline::algorithm_failed("head", "cannot tell up from down: no forehead-chin profile line found near the nose");
 }
 
 /// Respirator: y along the long in-plane axis (nose end = narrower, +y), z along the short one

@@ -1,0 +1,63 @@
+// The align program on bad input: one clear error line, the documented exit code, no output.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path dir = fs::temp_directory_path() / "rf_align_cli";
+
+int run(const std::string& args) {
+  fs::create_directories(dir);
+  const std::string cmd = std::string(BIN_DIR) + "/align " + args + " 2> " + (dir / "err.txt").string();
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+std::string err() {
+  std::ifstream f(dir / "err.txt");
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+std::string outs() { return " --out " + (dir / "a.ply").string() + " --transform " + (dir / "a.json").string(); }
+
+}  // namespace
+
+TEST(align_cli, missing_input_file_exits_2_without_output) {
+  fs::remove_all(dir);
+  EXPECT_EQ(run("--in " + (dir / "nope.ply").string() + outs()), 2);
+  EXPECT_NE(err().find("nope.ply"), std::string::npos) << err();
+  EXPECT_FALSE(fs::exists(dir / "a.ply"));
+  EXPECT_FALSE(fs::exists(dir / "a.json"));
+}
+
+TEST(align_cli, point_cloud_input_exits_2) {
+  fs::create_directories(dir);
+  const fs::path xyz = dir / "cloud.xyz";
+  {
+    std::ofstream f(xyz);
+    for (int i = 0; i < 200; ++i) f << (i % 10) * 20 << " " << (i / 10) * 10 << " " << (i % 7) << "\n";
+  }
+  EXPECT_EQ(run("--in " + xyz.string() + outs()), 2);
+  EXPECT_NE(err().find("point cloud"), std::string::npos) << err();
+  EXPECT_FALSE(fs::exists(dir / "a.json"));
+}
+
+TEST(align_cli, unknown_kind_is_a_usage_error) {
+  EXPECT_EQ(run("--in x.ply --kind elbow" + outs()), 1);
+  EXPECT_NE(err().find("elbow"), std::string::npos) << err();
+}
+
+TEST(align_cli, aligns_the_niosh_medium_headform) {
+  fs::remove_all(dir);
+  EXPECT_EQ(run("--in " + std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl --kind head" + outs()), 0) << err();
+  EXPECT_TRUE(fs::exists(dir / "a.ply"));
+  std::ifstream f(dir / "a.json");
+  const std::string json((std::istreambuf_iterator<char>(f)), {});
+  EXPECT_NE(json.find("\"matrix\""), std::string::npos);
+}
