@@ -3,6 +3,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "data/generator/head_model.h"
+#include "data/generator/respirator_model.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
@@ -19,13 +21,25 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
   const bool from_mesh = !rq.mesh_path.empty();
   if (from_mesh == !rq.kind.empty())
     throw usage("give either --from-mesh PATH or --kind head|respirator (with --id and --params)");
-  if (!from_mesh)
-    throw usage("--kind: generated models are not implemented yet; use --from-mesh");
   Triangles tri;
   std::vector<Hole> model_holes;
-  const pipeline::Scan scan = pipeline::read_scan(rq.mesh_path);
-  if (!scan.is_mesh) throw pipeline::bad_input(rq.mesh_path, "is a point cloud, expected a mesh to scan");
-  tri = triangles_of(scan.soup);
+  if (from_mesh) {
+    const pipeline::Scan scan = pipeline::read_scan(rq.mesh_path);
+    if (!scan.is_mesh) throw pipeline::bad_input(rq.mesh_path, "is a point cloud, expected a mesh to scan");
+    tri = triangles_of(scan.soup);
+  } else if (rq.id.empty() || rq.params_path.empty()) {
+    throw usage("--kind " + rq.kind + " needs --id and --params");
+  } else if (rq.kind == "head") {
+    const HeadShape head(read_head_params(rq.params_path, rq.id));
+    tri = head.mesh(7);
+    model_holes = head.scanner_holes();
+  } else if (rq.kind == "respirator") {
+    HeadParams face;
+    const RespiratorParams p = read_respirator_params(rq.params_path, rq.id, &face);
+    tri = make_respirator(p, HeadShape(face));
+  } else {
+    throw usage("--kind: expected 'head' or 'respirator', got '" + rq.kind + "'");
+  }
 
   ScanOptions opt;
   const double area = surface_area(tri);
@@ -34,7 +48,7 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
   opt.noise_mm = rq.noise_mm;
   opt.noise_direction = rq.noise_direction;
   opt.outliers.fraction = rq.outlier_fraction;
-  opt.random_holes = rq.random_holes >= 0 ? rq.random_holes : (from_mesh ? 0 : 2);
+  opt.random_holes = rq.random_holes >= 0 ? rq.random_holes : (from_mesh ? 0 : 1);
   opt.hole_diameter_min_mm = rq.hole_diameter_min_mm;
   opt.hole_diameter_max_mm = rq.hole_diameter_max_mm;
   if (!rq.no_model_holes) opt.holes = model_holes;

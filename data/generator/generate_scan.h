@@ -22,7 +22,7 @@ struct GenerateRequest {
   double noise_mm = 0.2;    ///< Gaussian noise σ [mm]
   NoiseDirection noise_direction = NoiseDirection::normal;
   double outlier_fraction = 0.005;  ///< outliers + spikes share of the output, [0, 0.5)
-  int random_holes = -1;    ///< random holes; -1: 0 for a given mesh, 2 for generated models
+  int random_holes = -1;    ///< random holes; -1: 0 for a given mesh, 1 for generated models
   double hole_diameter_min_mm = 10.0, hole_diameter_max_mm = 20.0;
   bool no_model_holes = false;  ///< generated models: skip the chin/ear holes
   std::uint64_t seed = 1;

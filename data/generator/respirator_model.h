@@ -1,0 +1,38 @@
+#pragma once
+/// Parametric N95 filtering facepiece: a domed cup whose rim lies on an average face (over
+/// the nasal bridge, along the cheeks, at the bottom of the chin), as a thin closed shell in the
+/// head frame (symmetric about x = 0, concave side toward −z, i.e. toward the face).
+///
+/// Construction: the rim outline is an egg shape of the given width and height in the x–y
+/// plane, from just below the sellion of the face down to the menton; each rim point is put
+/// on the face (ray along −z). The inner surface over the polar grid of the outline is the
+/// rim height blended inward plus a dome D·(1 − ρ²)^0.7, with D at least `depth` and large
+/// enough to clear the face (nose) by `clearance`; the outer surface is the inner one moved by
+/// `wall` along +z, and a strip closes the rim. Both sheets are graphs over the x–y outline,
+/// so the shell is a closed 2-manifold that cannot self-intersect.
+#include <string>
+
+#include "data/generator/head_model.h"
+
+namespace generator {
+
+struct RespiratorParams {
+  double width = 0;         ///< rim breadth, cheek to cheek [mm], 80..180
+  double height = 0;        ///< rim height, nasal bridge to chin [mm], 80..170
+  double depth = 0;         ///< minimum dome depth in front of the rim [mm], 20..90
+  double wall = 1.5;        ///< shell thickness along z [mm], 0.5..4
+  double clearance = 8.0;   ///< minimum gap between inner shell and the face inside the rim [mm]
+  double nose_drop = 5.0;   ///< top of the rim below the sellion [mm]
+};
+
+/// Reads respirator `id` ({"respirators": {"onesize": {"width": .., ...}}}) and the average
+/// face it sits on ({"headforms": {"average": {...}}} in the same file).
+/// @throws Error(bad_input) naming the file (unknown id listing the known ones, missing or
+///         implausible value).
+RespiratorParams read_respirator_params(const std::string& path, const std::string& id,
+                                        HeadParams* face);
+
+/// Builds the closed shell on `face`. @throws Error(algorithm) if the rim misses the face.
+Triangles make_respirator(const RespiratorParams& p, const HeadShape& face);
+
+}  // namespace generator
