@@ -72,7 +72,8 @@ class ContactPair {
   double edge_length_ = 0;                       ///< mean master edge length at the first call [mm]
   double depth_ = 0;                             ///< deepest penetration searched for [mm]
   double margin_ = 0;                            ///< grid reused until a master node moves this far [mm]
-  internal::BoxGrid grid_;                       ///< bucket sort of the inflated master triangles
+  std::vector<std::array<double, 6>> boxes_;     ///< master triangle boxes inflated by depth + margin
+  internal::BoxGrid grid_;                       ///< bucket sort of boxes_
   std::vector<double> x_built_;                  ///< master node positions at the last grid build
   // Per-slave history: side of a two-sided master (+1/-1, 0 unknown), elastic-slip friction force [N].
   std::vector<signed char> side_;

@@ -65,7 +65,7 @@ ClosestPoint closest_point_on_triangle(const double* p, const double* a, const d
   return make(p, a, b, c, 1 - v - w, v, w, Feature::face);
 }
 
-void BoxGrid::build(const std::vector<std::array<double, 6>>& boxes) {
+void BoxGrid::build(const std::vector<std::array<double, 6>>& boxes, double cell_factor) {
   start.clear();
   items.clear();
   n = {0, 0, 0};
@@ -86,7 +86,7 @@ void BoxGrid::build(const std::vector<std::array<double, 6>>& boxes) {
     extent += e;
   }
   const double span = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-12});
-  cell = std::max(extent / double(boxes.size()), 1e-9 * span);
+  cell = std::max(cell_factor * extent / double(boxes.size()), 1e-9 * span);
   const double max_cells = 8.0 * double(boxes.size()) + 64;
   for (;;) {
     double total = 1;

@@ -42,9 +42,10 @@ struct BoxGrid {
   std::array<long, 3> n{0, 0, 0};
   std::vector<int> start, items;
 
-  /// Bucket-sorts boxes (#boxes×6: xmin ymin zmin xmax ymax zmax [mm]) into cubes of about the
-  /// mean box size, coarsened so that the cell count stays below 8·#boxes + 64. O(#boxes).
-  void build(const std::vector<std::array<double, 6>>& boxes);
+  /// Bucket-sorts boxes (#boxes×6: xmin ymin zmin xmax ymax zmax [mm]) into cubes of side
+  /// cell_factor × the mean box size, coarsened so that the cell count stays below
+  /// 8·#boxes + 64. O(#boxes / cell_factor³).
+  void build(const std::vector<std::array<double, 6>>& boxes, double cell_factor = 1);
   /// Index of the cell containing p, or -1 outside the grid.
   long cell_of(const double* p) const;
   /// Boxes listed in cell `id` (from cell_of; id ≥ 0): [first, last).
