@@ -155,6 +155,12 @@ int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) 
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: internal error: %s\n", prog.c_str(), e.what());
     return int(ErrorKind::algorithm);
+  } catch (const std::string& e) {  // the gmsh API throws its last error message as a string
+    std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.c_str());
+    return int(ErrorKind::algorithm);
+  } catch (...) {
+    std::fprintf(stderr, "%s: internal error: unknown exception\n", prog.c_str());
+    return int(ErrorKind::algorithm);
   }
 }
 

@@ -160,7 +160,9 @@ PointCloud read_obj_points(const std::string& path) {
 void read_with_assimp(const std::string& path, Scan& scan) {
   Assimp::Importer importer;
   // Keep the triangles as scanned: only join the duplicated corners STL stores per facet.
-  const aiScene* sc = importer.ReadFile(path, aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
+  // Facet normals would keep corners apart, so they are dropped before the join.
+  const aiScene* sc = importer.ReadFile(
+      path, aiProcess_DropNormals | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
   if (!sc || !sc->mNumMeshes) {
     std::string why = importer.GetErrorString();
     throw bad_input(path, "not a readable mesh" + (why.empty() ? std::string() : ": " + why));

@@ -63,6 +63,7 @@ TEST(cli, run_main_maps_error_kinds_to_exit_codes) {
   EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::bad_input("f", "x"); }), 2);
   EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::algorithm_failed("f", "x"); }), 3);
   EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::io_failed("f", "x"); }), 4);
+  EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw std::string("gmsh failed"); }), 3);
   Args help({"prog", "--help"});
   EXPECT_EQ(pipeline::run_main(cli, help.argc(), help.argv(), [] { return 7; }), 0);
 }

@@ -37,6 +37,8 @@ TEST(read_scan, reads_niosh_medium_stl_in_mm) {
   ASSERT_TRUE(scan.is_mesh);
   EXPECT_EQ(scan.unit, pipeline::Unit::mm);
   EXPECT_EQ(scan.soup.polygons.size(), 20146u);
+  // A closed triangle mesh has V = F/2 + 2: the corners STL stores per facet are merged.
+  EXPECT_EQ(scan.soup.points.size(), 20146u / 2 + 2);
   EXPECT_NEAR(pipeline::largest_extent(scan.soup.points), 285.7, 0.5);
 }
 
