@@ -125,6 +125,7 @@ Model read_msh(const std::string& path) {
   }
   Model m;
   m.name = path;
+  const internal::KeepOmpThreads keep_threads;
   internal::ensure_gmsh();
   gmsh::option::setNumber("General.Terminal", 0);
   gmsh::logger::start();

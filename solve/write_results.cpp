@@ -22,6 +22,7 @@ int gmsh_type(ElementType t) {
 }  // namespace
 
 void write_mesh_msh(const Model& m, const std::string& path) {
+  const internal::KeepOmpThreads keep_threads;
   internal::ensure_gmsh();
   gmsh::option::setNumber("General.Terminal", 0);
   try {

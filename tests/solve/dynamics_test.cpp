@@ -156,8 +156,8 @@ TEST(solver, results_independent_of_thread_count) {
   // large enough (> kMinParallel elements and nodes) for the loops to really run in parallel
   solve::BlockSpec bs;
   bs.type = ElementType::wedge6;
-  bs.nx = 16; bs.ny = 16; bs.nz = 8;
-  bs.size = {16, 16, 8};
+  bs.nx = 48; bs.ny = 48; bs.nz = 8;  // 36,864 wedges, 21,609 nodes
+  bs.size = {48, 48, 8};
   bs.jitter = 0.2;
   solve::Model m = solve::make_block(bs, {"soft", 1e-3, 0.6, 0.45, false});
   m.bcs.push_back({"zmin", 2, solve::BcKind::fixed, {}});
