@@ -2,7 +2,7 @@
 /// Facial landmarks of an aligned head (frame of align.h: x lateral, +x = the subject's left;
 /// y up; z out of the face; mm) and their JSON file (format: see README.md, "landmarks").
 ///
-/// Detected: sellion, pronasale, subnasale, menton (midline profile x = 0), zygion_left/right,
+/// Detected: sellion, pronasale, menton (midline profile x = 0), zygion_left/right,
 /// tragion_left/right, gonion_left/right (surface, each side on its own). Methods in
 /// landmarks_detect.cpp; each point carries a confidence in [0, 1].
 #include <Eigen/Core>
@@ -29,7 +29,7 @@ const std::vector<std::string>& required_landmarks();
 
 /// Detects the landmarks on an aligned head.
 /// @param[in] head  closed or open triangle surface in the head frame [mm]; not modified
-/// @return all required landmarks plus subnasale
+/// @return all required landmarks
 /// @throws pipeline::Error(algorithm) if the midline profile, the nose, the chin, the ears or
 ///         the cheeks cannot be found (e.g. the head is not aligned).
 Landmarks detect_landmarks(const pipeline::SurfaceMesh& head);

@@ -1,0 +1,48 @@
+// landmarks: detects facial landmarks on an aligned head (output of align) and writes them as
+// JSON (frame of align.h, mm; format in README.md). A user's file (--user) replaces detection
+// after validation (names, numbers, left/right sides, distance to the surface).
+//
+// Inputs:  --in    aligned head surface (PLY from align, mm)
+//          --user  optional landmarks JSON to use instead of detection
+// Outputs: --out   landmarks JSON
+//
+// Sample runs:
+//   landmarks --in build/cases/medium_flex/aligned.ply --out landmarks.json
+//   landmarks --in aligned.ply --user my_landmarks.json --out landmarks.json
+#include <cstdio>
+#include <sstream>
+
+#include "pipeline/atomic_write.h"
+#include "pipeline/cli.h"
+#include "pipeline/progress.h"
+#include "pipeline/read_scan.h"
+#include "scan2cad/landmarks.h"
+
+int main(int argc, char** argv) {
+  std::string in, out, user;
+  pipeline::Cli cli("landmarks", "Detects facial landmarks on an aligned head (x lateral, y up, z out of the face; mm).");
+  cli.option("-i", "--in", &in, "aligned head surface (PLY, mm)", pipeline::required);
+  cli.option("-o", "--out", &out, "landmarks (JSON)", pipeline::required);
+  cli.option("-u", "--user", &user, "user landmarks (JSON) replacing detection");
+  return pipeline::run_main(cli, argc, argv, [&] {
+    // 1. Options and input
+    pipeline::log("landmarks", cli.resolved());
+    pipeline::Progress progress("landmarks", 0);
+    const auto head = pipeline::read_surface_mesh(in);
+    // 2. Detect, or validate the user's file against the head
+    scan2cad::Landmarks l;
+    if (user.empty()) {
+      progress.step("detecting");
+      l = scan2cad::detect_landmarks(head);
+    } else {
+      l = scan2cad::read_landmarks(user);
+      scan2cad::check_landmarks_on_surface(l, head, user);
+    }
+    // 3. Write atomically
+    pipeline::write_text_atomic(out, scan2cad::landmarks_json(l));
+    std::ostringstream s;
+    s << l.source << ": face length " << scan2cad::face_length(l) << " mm, face width " << scan2cad::face_width(l) << " mm";
+    progress.finish(s.str());
+    return 0;
+  });
+}
