@@ -30,7 +30,7 @@ Vector random_direction(Rng& rng) {
   }
 }
 
-/// Midpoints of the edges where the surface is not smooth: open borders and edges with a
+/// Points along the edges where the surface is not smooth: open borders and edges with a
 /// dihedral angle above 60°. Holes placed near these would not be clean disks.
 std::vector<Point> rough_edge_points(const Triangles& tri) {
   std::map<std::pair<std::size_t, std::size_t>, std::vector<std::size_t>> edge_faces;
@@ -44,7 +44,12 @@ std::vector<Point> rough_edge_points(const Triangles& tri) {
   for (const auto& [e, fs] : edge_faces) {
     bool rough = fs.size() != 2;
     if (!rough) rough = unit(face_cross(tri, fs[0])) * unit(face_cross(tri, fs[1])) < cos60;
-    if (rough) out.push_back(CGAL::midpoint(tri.points[e.first], tri.points[e.second]));
+    if (!rough) continue;
+    // Points every ≤ 2 mm along the edge (long edges, e.g. of a capped neck, matter too).
+    const Point& p = tri.points[e.first];
+    const Vector v = tri.points[e.second] - p;
+    const int n = 1 + int(std::sqrt(v.squared_length()) / 2.0);
+    for (int k = 0; k <= n; ++k) out.push_back(p + (double(k) / n) * v);
   }
   return out;
 }

@@ -1,0 +1,66 @@
+#include <gtest/gtest.h>
+
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+
+#include <string>
+
+#include "data/generator/head_model.h"
+#include "data/generator/respirator_model.h"
+#include "pipeline/read_scan.h"
+
+using namespace generator;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+TEST(measure_head, niosh_medium_has_plausible_dimensions) {
+  const auto scan = pipeline::read_scan(std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl");
+  const HeadDimensions d = measure_head(triangles_of(scan.soup));
+  // The values in headforms.json (medium) were measured by this routine; 0.05 mm = rounding.
+  EXPECT_NEAR(d.face_length, 120.6, 0.05);
+  EXPECT_NEAR(d.face_width, 151.6, 0.05);
+  EXPECT_NEAR(d.head_breadth, 152.3, 0.05);
+  EXPECT_NEAR(d.head_length, 194.0, 0.05);
+}
+
+TEST(head_model, measured_dimensions_match_params) {
+  const std::string params = std::string(SOURCE_DIR) + "/data/generator/headforms.json";
+  for (const std::string id : {"small", "longnarrow", "shortwide"}) {
+    const HeadParams p = read_head_params(params, id);
+    const HeadDimensions d = measure_head(HeadShape(p).mesh(6));
+    // 2.5 mm: vertex spacing of the level-6 mesh is ~2 mm and the warps interact (calibrated
+    // in three rounds); ±2.5 mm is well below the 8–12 mm between the sizes.
+    EXPECT_NEAR(d.face_length, p.face_length, 2.5) << id;
+    EXPECT_NEAR(d.face_width, p.face_width, 2.5) << id;
+    EXPECT_NEAR(d.jaw_width, p.jaw_width, 2.5) << id;
+    EXPECT_NEAR(d.head_breadth, p.head_breadth, 2.5) << id;
+    EXPECT_NEAR(d.head_length, p.head_length, 2.5) << id;
+  }
+}
+
+TEST(head_model, clean_mesh_is_closed_manifold_without_self_intersections) {
+  const HeadParams p = read_head_params(std::string(SOURCE_DIR) + "/data/generator/headforms.json", "medium");
+  const auto mesh = surface_mesh_of(HeadShape(p).mesh(6));  // throws if non-manifold
+  EXPECT_TRUE(CGAL::is_closed(mesh));
+  EXPECT_FALSE(PMP::does_self_intersect(mesh));
+  EXPECT_TRUE(PMP::is_outward_oriented(mesh));
+}
+
+TEST(respirator_model, shell_is_closed_symmetric_and_in_front_of_the_face) {
+  HeadParams face;
+  const auto p = read_respirator_params(std::string(SOURCE_DIR) + "/data/generator/respirators.json",
+                                        "onesize", &face);
+  const HeadShape head(face);
+  const Triangles t = make_respirator(p, head);
+  const auto mesh = surface_mesh_of(t);
+  EXPECT_TRUE(CGAL::is_closed(mesh));
+  EXPECT_FALSE(PMP::does_self_intersect(mesh));
+  EXPECT_TRUE(PMP::is_outward_oriented(mesh));
+  double xmin = 1e9, xmax = -1e9;
+  for (const auto& q : t.points) {
+    xmin = std::min(xmin, q.x());
+    xmax = std::max(xmax, q.x());
+    EXPECT_GE(head.value(q), -1e-3);  // no point inside the head (rim points lie on it)
+  }
+  EXPECT_NEAR(xmin, -xmax, 1e-6);  // symmetric about x = 0 by construction
+  EXPECT_LE(xmax - xmin, p.width + 1e-6);
+}
