@@ -1,13 +1,13 @@
 #include "scan2cad/fit.h"
 
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <gmsh.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 
 #include "pipeline/error.h"
@@ -15,40 +15,101 @@
 namespace scan2cad {
 
 using pipeline::SurfaceMesh;
+namespace PMP = CGAL::Polygon_mesh_processing;
 
 namespace {
 
 const char* head_names[] = {"back_of_head", "forehead", "left_cheek", "right_cheek", "chin"};
 
+std::vector<pipeline::Kernel::Triangle_3> part_triangles(const SurfaceMesh& m, int label) {
+  const auto part = m.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  std::vector<pipeline::Kernel::Triangle_3> out;
+  for (auto f : m.faces())
+    if (part[f] == label) {
+      auto h = m.halfedge(f);
+      out.emplace_back(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+    }
+  return out;
+}
+
 }  // namespace
 
-std::vector<FitPart> fit_surfaces(const SurfaceMesh& mesh, const std::string& kind) {
+std::string fit_part_name(int label, const std::string& kind) {
+  return kind == "head" ? head_names[label] : "respirator_inner";
+}
+
+void check_parts(const SurfaceMesh& mesh, const std::string& kind) {
   auto found = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property);
   if (!found.second) throw pipeline::bad_input("fit", "no face property \"part\" (run segment first)");
-  const auto label = found.first;
-  // 1. Parts present, with their names.
-  std::map<int, std::vector<pipeline::FaceIndex>> faces;
   for (auto f : mesh.faces()) {
-    const int l = label[f];
+    const int l = found.first[f];
     if (kind == "head" ? (l < 0 || l > 4) : l != 0)
       throw pipeline::bad_input("fit", "face " + std::to_string(std::size_t(f)) + " has part " +
                                            std::to_string(l) + ", not a " + kind + " part label");
-    if (mesh.degree(f) != 3) throw pipeline::bad_input("fit", "face " + std::to_string(std::size_t(f)) + " is not a triangle");
-    faces[l].push_back(f);
+    if (mesh.degree(f) != 3)
+      throw pipeline::bad_input("fit", "face " + std::to_string(std::size_t(f)) + " is not a triangle");
   }
-  std::vector<FitPart> parts;
-  for (auto& [l, fs] : faces)
-    parts.push_back({kind == "head" ? head_names[l] : "respirator_inner", l, l + 1});
+}
 
-  // 2. One discrete surface per part; a node belongs to the first part that uses it (gmsh
-  //    re-classifies the boundary nodes onto the curves in createTopology).
+SurfaceMesh remesh_parts(const SurfaceMesh& input, const std::string& kind, double edge_mm, double back_edge_mm) {
+  check_parts(input, kind);
+  SurfaceMesh mesh = input;
+  mesh.collect_garbage();
+  auto part = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  auto constrained = mesh.add_property_map<SurfaceMesh::Edge_index, bool>("e:fit_cut", false).first;
+  auto mark = [&] {
+    for (auto e : mesh.edges()) {
+      const auto h = mesh.halfedge(e);
+      constrained[e] = mesh.is_border(e) || part[mesh.face(h)] != part[mesh.face(mesh.opposite(h))];
+    }
+  };
+  mark();
+  PMP::isotropic_remeshing(mesh.faces(), edge_mm, mesh,
+                           CGAL::parameters::number_of_iterations(3)
+                               .edge_is_constrained_map(constrained)
+                               .face_patch_map(part)
+                               .relax_constraints(true));
+  mesh.collect_garbage();
+  if (kind == "head" && back_edge_mm > 0) {
+    // Coarser back of head, then the face parts once more: the cut is constrained (kept) but its
+    // edges may be collapsed by the back pass; the last pass re-splits them to the face size and
+    // relaxes the face-side triangles the collapses distorted. (Protecting the cut instead leaves
+    // gamma ~0.2 triangles on the back side.)
+    auto remesh_where = [&](auto keep, double edge, int iterations) {
+      mark();
+      std::vector<pipeline::FaceIndex> sel;
+      for (auto f : mesh.faces())
+        if (keep(part[f])) sel.push_back(f);
+      PMP::isotropic_remeshing(sel, edge, mesh,
+                               CGAL::parameters::number_of_iterations(iterations)
+                                   .edge_is_constrained_map(constrained)
+                                   .face_patch_map(part)
+                                   .relax_constraints(true));
+      mesh.collect_garbage();
+    };
+    remesh_where([](int l) { return l == 0; }, back_edge_mm, 3);
+    remesh_where([](int l) { return l != 0; }, edge_mm, 3);
+  }
+  mesh.remove_property_map(constrained);
+  return mesh;
+}
+
+std::vector<FitPart> build_part_model(const SurfaceMesh& mesh, const std::string& kind, bool parametrize) {
+  check_parts(mesh, kind);
+  const auto label = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  std::map<int, std::vector<pipeline::FaceIndex>> faces;
+  for (auto f : mesh.faces()) faces[label[f]].push_back(f);
+  std::vector<FitPart> parts;
+  for (auto& [l, fs] : faces) parts.push_back({fit_part_name(l, kind), l, l + 1});
+
+  // One discrete surface per part; a node belongs to the first part that uses it (gmsh
+  // re-classifies the boundary nodes onto the curves in createTopology).
   gmsh::model::add("fitted");
   std::vector<int> owner(mesh.number_of_vertices(), 0);
   for (auto& p : parts) gmsh::model::addDiscreteEntity(2, p.surface_tag);
   for (auto& p : parts) {
-    std::vector<std::size_t> node_tags;
+    std::vector<std::size_t> node_tags, tri;
     std::vector<double> coords;
-    std::vector<std::size_t> tri;
     for (auto f : faces[p.label])
       for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
         tri.push_back(std::size_t(v) + 1);
@@ -60,16 +121,14 @@ std::vector<FitPart> fit_surfaces(const SurfaceMesh& mesh, const std::string& ki
         }
       }
     gmsh::model::mesh::addNodes(2, p.surface_tag, node_tags, coords);
-    std::vector<std::size_t> elem_tags(tri.size() / 3);
-    for (std::size_t i = 0; i < elem_tags.size(); ++i) elem_tags[i] = 0;
     gmsh::model::mesh::addElementsByType(p.surface_tag, 2, {}, tri);
   }
-  // 3. Boundary curves and corner points from the mesh, then the parametrizations.
-  gmsh::model::mesh::createTopology(true, true);
   try {
-    gmsh::model::mesh::createGeometry();
+    gmsh::model::mesh::createTopology(true, true);
+    if (parametrize) gmsh::model::mesh::createGeometry();
   } catch (...) {
-    throw pipeline::algorithm_failed("fit", "gmsh cannot parametrize the parts (each must be a disk)");
+    throw pipeline::algorithm_failed("fit", parametrize ? "gmsh cannot parametrize the parts (each must be a disk)"
+                                                        : "gmsh cannot build the part topology");
   }
   for (auto& p : parts) {
     gmsh::model::addPhysicalGroup(2, {p.surface_tag}, p.surface_tag);
@@ -78,53 +137,34 @@ std::vector<FitPart> fit_surfaces(const SurfaceMesh& mesh, const std::string& ki
   return parts;
 }
 
-std::vector<FitDeviation> fit_deviation(const SurfaceMesh& reference, const std::vector<FitPart>& parts,
-                                        double check_size_mm) {
-  using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
+std::vector<FitDeviation> fit_deviation(const SurfaceMesh& reference, const SurfaceMesh& fitted,
+                                        const std::string& kind) {
+  using Triangles = std::vector<pipeline::Kernel::Triangle_3>;
+  using Primitive = CGAL::AABB_triangle_primitive<pipeline::Kernel, Triangles::const_iterator>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, Primitive>>;
-  Tree tree(faces(reference).first, faces(reference).second, reference);
-  tree.accelerate_distance_queries();
-
-  gmsh::option::setNumber("Mesh.MeshSizeMin", check_size_mm);
-  gmsh::option::setNumber("Mesh.MeshSizeMax", check_size_mm);
-  if (const char* a = std::getenv("FIT_ALGO")) gmsh::option::setNumber("Mesh.Algorithm", std::atof(a));
-  try {
-    gmsh::model::mesh::clear();
-    gmsh::model::mesh::generate(2);
-  } catch (...) {
-    throw pipeline::algorithm_failed("fit", "gmsh cannot mesh the fitted geometry at " +
-                                                std::to_string(check_size_mm) + " mm");
-  }
   std::vector<FitDeviation> out;
-  for (const auto& p : parts) {
+  for (int label = 0; label <= (kind == "head" ? 4 : 0); ++label) {
+    const Triangles a = part_triangles(reference, label), b = part_triangles(fitted, label);
+    if (a.empty() && b.empty()) continue;
     FitDeviation d;
-    d.name = p.name;
-    std::vector<std::size_t> tags;
-    std::vector<double> xyz, uv;
-    gmsh::model::mesh::getNodes(tags, xyz, uv, 2, p.surface_tag, true, false);
-    std::map<std::size_t, std::array<double, 3>> node;
+    d.name = fit_part_name(label, kind);
+    if (a.empty() || b.empty())
+      throw pipeline::algorithm_failed("fit", "part " + d.name + " vanished while fitting");
     double sum2 = 0;
-    for (std::size_t i = 0; i < tags.size(); ++i) {
-      const pipeline::Point q(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-      node[tags[i]] = {q.x(), q.y(), q.z()};
-      const double dist = std::sqrt(tree.squared_distance(q));
-      sum2 += dist * dist;
-      d.max_mm = std::max(d.max_mm, dist);
-    }
-    d.samples = tags.size();
-    d.rms_mm = tags.empty() ? 0 : std::sqrt(sum2 / tags.size());
-    std::vector<std::size_t> etags, enodes;
-    gmsh::model::mesh::getElementsByType(2, etags, enodes, p.surface_tag);
-    double csum2 = 0;
-    for (std::size_t e = 0; e < etags.size(); ++e) {
-      double c[3] = {0, 0, 0};
-      for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j) c[j] += node[enodes[3 * e + k]][j] / 3.0;
-      const double dist = std::sqrt(tree.squared_distance(pipeline::Point(c[0], c[1], c[2])));
-      csum2 += dist * dist;
-      d.chord_max_mm = std::max(d.chord_max_mm, dist);
-    }
-    d.chord_rms_mm = etags.empty() ? 0 : std::sqrt(csum2 / etags.size());
+    auto measure = [&](const Triangles& from, const Triangles& to) {
+      Tree tree(to.begin(), to.end());
+      tree.accelerate_distance_queries();
+      for (const auto& t : from)
+        for (const auto& q : {t[0], CGAL::centroid(t)}) {
+          const double dist = std::sqrt(tree.squared_distance(q));
+          sum2 += dist * dist;
+          d.max_mm = std::max(d.max_mm, dist);
+          ++d.samples;
+        }
+    };
+    measure(b, a);
+    measure(a, b);
+    d.rms_mm = std::sqrt(sum2 / d.samples);
     out.push_back(d);
   }
   return out;

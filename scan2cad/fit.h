@@ -1,11 +1,16 @@
 #pragma once
-/// Smooth-surface (CAD) step of the paper, done with gmsh: each labelled part of a segmented
-/// surface becomes a discrete gmsh surface with its boundary curves (shared between neighbouring
-/// parts), and gmsh computes a parametrization of each part (model::mesh::createGeometry), so
-/// that the geometry can be re-meshed at any size. This needs disk-like parts: whole closed heads
-/// fail ("Wrong topology of boundary mesh for parametrization"), which is why `segment` comes
-/// first. The parametrized surface passes through the input triangles (it interpolates them), so
-/// the fitted geometry deviates from the repaired mesh only by what re-meshing moves.
+/// Smooth-surface (CAD) step of the paper. Each labelled part of a segmented surface is remeshed
+/// isotropically (CGAL PMP::isotropic_remeshing, part boundaries kept as constrained polylines,
+/// new vertices projected back onto the input), which removes the slivers the level-set cuts of
+/// `segment` leave, and becomes a discrete gmsh surface with its boundary curves (shared between
+/// neighbouring parts) and a named 2D physical group.
+///
+/// Why not gmsh's own re-meshing of parametrized discrete surfaces: gmsh 4.8 maps each part
+/// harmonically onto a disk; the back of the head (the whole head minus the face) is far from a
+/// disk, its parametrization is crushed near the boundary and meshing fails ("Unable to recover the
+/// edge", intersecting 1D mesh in parameter space) at every algorithm, with or without slivers.
+/// The remeshed triangles ARE the fitted surface (they interpolate the input), so the deviation is
+/// measured directly between this surface and the input (fit_deviation).
 #include <string>
 #include <vector>
 
@@ -17,35 +22,48 @@ namespace scan2cad {
 struct FitPart {
   std::string name;     ///< physical group name (forehead, ..., or respirator_inner)
   int label = 0;        ///< "f:part" value
-  int surface_tag = 0;  ///< gmsh surface tag (= physical group tag)
+  int surface_tag = 0;  ///< gmsh surface tag (= physical group tag = label + 1)
 };
 
-/// Builds the parametrized, part-wise geometry in the CURRENT gmsh model (gmsh must be
-/// initialized; the model is cleared first): one discrete surface and one named 2D physical
-/// group per part, boundary curves shared, parametrizations computed.
-///
-/// @param[in] segmented  triangle mesh [mm] with int face property "f:part"
-/// @param[in] kind       "head" (labels 0..4: back_of_head, forehead, left_cheek, right_cheek,
-///                       chin) or "respirator" (one part, label 0, named respirator_inner)
-/// @return the parts, in label order
-/// @throws pipeline::Error(bad_input) if "f:part" is missing or a label is unknown for `kind`;
-///         Error(algorithm) if gmsh cannot parametrize a part (not a disk)
-std::vector<FitPart> fit_surfaces(const pipeline::SurfaceMesh& segmented, const std::string& kind);
+/// Checks the part labels of a segmented mesh.
+/// @param[in] kind "head" (labels 0..4: back_of_head, forehead, left_cheek, right_cheek, chin) or
+///                 "respirator" (one part, label 0, named respirator_inner)
+/// @throws pipeline::Error(bad_input) if "f:part" is missing, a label is unknown for `kind`, or a
+///         face is not a triangle
+void check_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind);
 
-/// Deviation of the fitted geometry from the reference (repaired) mesh, per part.
+/// Isotropic remeshing of a part-labelled triangle mesh [mm]: 3 iterations of
+/// PMP::isotropic_remeshing to `edge_mm` on every part, then (if `back_edge_mm` > 0) to
+/// `back_edge_mm` on the back_of_head part only (label 0, head meshes). Part boundaries and open
+/// borders are constrained (their edges are split/collapsed along the cut, never moved off it);
+/// every new face keeps its "f:part".
+/// @throws pipeline::Error(bad_input) as check_parts
+pipeline::SurfaceMesh remesh_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind,
+                                   double edge_mm, double back_edge_mm = 0);
+
+/// Builds the part-wise model in the CURRENT gmsh model (gmsh must be initialized; a model
+/// named "fitted" is added): one discrete surface and one named 2D physical group per part, nodes
+/// shared (one global numbering = vertex index + 1), boundary curves and corner points created
+/// by gmsh (createTopology). If `parametrize`, gmsh also computes each part's parametrization
+/// (createGeometry), needed only to re-mesh the model inside gmsh.
+/// @return the parts, in label order
+/// @throws pipeline::Error(bad_input) as check_parts; Error(algorithm) if gmsh fails
+std::vector<FitPart> build_part_model(const pipeline::SurfaceMesh& mesh, const std::string& kind,
+                                      bool parametrize);
+
+/// Deviation of a fitted surface from the reference (repaired/segmented) mesh, per part.
 struct FitDeviation {
   std::string name;
-  std::size_t samples = 0;   ///< nodes of the check mesh on this part
-  double rms_mm = 0, max_mm = 0;              ///< distance of points ON the fitted surface [mm]
-  double chord_rms_mm = 0, chord_max_mm = 0;  ///< distance of the check triangles' centroids [mm]
+  std::size_t samples = 0;            ///< points measured in both directions
+  double rms_mm = 0, max_mm = 0;      ///< both directions pooled [mm]
 };
 
-/// Meshes the current (fitted) gmsh model at `check_size_mm` and measures, per part, the
-/// distance of the new nodes (points of the fitted surface) and of the triangle centroids
-/// (chord error of a mesh of that size) to `reference`. Replaces the model's mesh: call it after
-/// the fitted geometry has been written.
-/// @throws pipeline::Error(algorithm) if gmsh cannot mesh a part
+/// Per part: distances of the fitted part's vertices and triangle centroids to the reference's
+/// SAME part, and of the reference part's vertices and centroids to the fitted part (AABB trees).
 std::vector<FitDeviation> fit_deviation(const pipeline::SurfaceMesh& reference,
-                                        const std::vector<FitPart>& parts, double check_size_mm);
+                                        const pipeline::SurfaceMesh& fitted, const std::string& kind);
+
+/// Part name for a label and kind.
+std::string fit_part_name(int label, const std::string& kind);
 
 }  // namespace scan2cad

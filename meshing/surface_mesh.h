@@ -1,0 +1,34 @@
+#pragma once
+/// Surface mesh for layering: a conforming, part-wise triangle mesh of a fitted (or segmented)
+/// surface, as a gmsh model with one named 2D physical group per part.
+///
+/// The triangles come from scan2cad::remesh_parts (CGAL isotropic remeshing with the part cuts
+/// constrained) at the layering size, the back of the head coarser; gmsh then holds them as
+/// discrete surfaces sharing their boundary nodes and curves (createTopology) and rates them
+/// (getElementQualities "gamma"). gmsh's own re-meshing of parametrized parts is not used: it
+/// fails on the back of the head (see scan2cad/fit.h).
+#include <string>
+#include <vector>
+
+#include "pipeline/surface_mesh.h"
+
+namespace meshing {
+
+struct SurfaceMeshPart {
+  std::string name;
+  std::size_t triangles = 0;
+  double min_gamma = 0, mean_gamma = 0;  ///< gmsh "gamma" (inscribed/circumscribed radius, 1 = equilateral)
+};
+
+/// Builds the surface mesh in the CURRENT gmsh model (gmsh initialized by the caller).
+/// @param[in] fitted       triangle mesh [mm] with int face property "f:part"
+/// @param[in] kind         "head" or "respirator" (one part, respirator_inner)
+/// @param[in] size_mm      target edge length on the face parts / the respirator [mm]
+/// @param[in] back_size_mm target edge length on back_of_head [mm] (head only)
+/// @return per part: triangle count and quality
+/// @throws pipeline::Error(bad_input) on missing/unknown part labels; Error(algorithm) if gmsh fails
+///         or the minimum gamma is below `min_gamma`
+std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, const std::string& kind,
+                                          double size_mm, double back_size_mm, double min_gamma = 0.3);
+
+}  // namespace meshing
