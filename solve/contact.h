@@ -75,6 +75,7 @@ class ContactPair {
   std::vector<std::array<double, 6>> boxes_;     ///< master triangle boxes inflated by depth + margin
   internal::BoxGrid grid_;                       ///< bucket sort of boxes_
   std::vector<double> x_built_;                  ///< master node positions at the last grid build
+  std::vector<int> slave_order_;                 ///< slaves sorted by grid cell (memory locality)
   // Per-slave history: side of a two-sided master (+1/-1, 0 unknown), elastic-slip friction force [N].
   std::vector<signed char> side_;
   std::vector<std::array<double, 3>> stick_force_;
