@@ -27,7 +27,9 @@
 #include <CGAL/poisson_surface_reconstruction.h>
 #include <CGAL/remove_outliers.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <utility>
@@ -139,7 +141,29 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
                                                  " points left after outlier removal, expected at least " +
                                                  std::to_string(min_points));
 
-  // 3. Normals: jet fitting + minimum-spanning-tree orientation (CGAL), when the scan has none.
+  // 3. Denoise and remove spikes: each point is projected onto the jet (quadric) fitted to its
+  //    k neighbours (CGAL). A spike (a point several mm off the surface) stays near its
+  //    neighbours in k-NN distance, so step 2 misses it, but its projection moves it by its
+  //    height: points moved by more than 4 robust standard deviations (1.4826 × median move)
+  //    are removed, the others keep their denoised position.
+  progress.step("jet smoothing and spike removal");
+  {
+    std::vector<PN> smoothed = pn;
+    CGAL::jet_smooth_point_set<CGAL::Sequential_tag>(smoothed, k, CGAL::parameters::point_map(PointMap()));
+    std::vector<double> move(pn.size());
+    for (std::size_t i = 0; i < pn.size(); ++i) move[i] = std::sqrt(CGAL::squared_distance(pn[i].first, smoothed[i].first));
+    std::vector<double> sorted = move;
+    std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+    const double limit = 4.0 * 1.4826 * sorted[sorted.size() / 2];
+    std::vector<PN> kept;
+    kept.reserve(pn.size());
+    for (std::size_t i = 0; i < pn.size(); ++i)
+      if (move[i] <= limit) kept.push_back({smoothed[i].first, pn[i].second});
+    st.outliers_removed += pn.size() - kept.size();
+    pn.swap(kept);
+  }
+
+  // 4. Normals: jet fitting + minimum-spanning-tree orientation (CGAL), when the scan has none.
   if (!has_normals) {
     progress.step("normal estimation and orientation");
     CGAL::jet_estimate_normals<CGAL::Sequential_tag>(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
@@ -147,25 +171,28 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     pn.erase(CGAL::mst_orient_normals(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap())), pn.end());
     st.normals_estimated = true;
   }
-  st.spacing_mm = CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, k, CGAL::parameters::point_map(PointMap()));
+  // spacing = mean distance to the 6 nearest neighbours (CGAL's Poisson convention)
+  st.spacing_mm = CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, 6, CGAL::parameters::point_map(PointMap()));
   st.points_used = pn.size();
 
-  // 4. Reconstruction.
+  // 5. Reconstruction.
   SurfaceMesh mesh;
   progress.step(reconstruct_method_name(opt.method) + " reconstruction of " + std::to_string(pn.size()) + " points");
   if (opt.method == ReconstructMethod::poisson) {
-    // sm_distance 0.375 × spacing is CGAL's default approximation error; radius 30 × spacing
-    // bounds the facet size; the surface is remeshed by repair anyway.
+    // Contouring: facets within opt.poisson_distance_mm of the implicit surface (CGAL's default
+    // 0.375 × spacing would be 0.3–0.6 mm here, above the accuracy asked for) and of radius
+    // ≤ 30 × spacing; repair remeshes the result anyway.
     if (!CGAL::poisson_surface_reconstruction_delaunay(pn.begin(), pn.end(), PointMap(), NormalMap(), mesh,
-                                                       st.spacing_mm, 20.0, 30.0, 0.375))
+                                                       st.spacing_mm, 20.0, 30.0,
+                                                       // CGAL's surface mesher fails ("already inserted")
+                                                       // below ~0.1 × spacing on sparse clouds
+                                                       std::max(opt.poisson_distance_mm / st.spacing_mm, 0.1)))
       throw pipeline::algorithm_failed("point cloud", "Poisson reconstruction failed (normals inconsistent?)");
     if (CGAL::is_closed(mesh) && !PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);
   } else {
     std::vector<Point> pts(pn.size());
     std::vector<std::array<std::size_t, 3>> tris;
     if (opt.method == ReconstructMethod::advancing_front) {
-      // interpolating: remove the noise first with jet smoothing (CGAL)
-      CGAL::jet_smooth_point_set<CGAL::Sequential_tag>(pn, k, CGAL::parameters::point_map(PointMap()));
       for (std::size_t i = 0; i < pn.size(); ++i) pts[i] = pn[i].first;
       CGAL::advancing_front_surface_reconstruction(pts.begin(), pts.end(), std::back_inserter(tris), 5.0, 0.52);
     } else {

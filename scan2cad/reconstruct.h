@@ -1,11 +1,12 @@
 #pragma once
 /// Surface reconstruction: a scanned point cloud [mm] becomes a triangle mesh.
 ///
-/// Steps: (1) outlier removal (CGAL::remove_outliers on the k-NN distance), (2) normals by jet
-/// fitting and MST orientation when the cloud has none, (3) one CGAL reconstruction:
+/// Steps: (1) grid simplification, (2) outlier removal (CGAL::remove_outliers on the k-NN
+/// distance), (3) jet smoothing, dropping points the jet moves far (spikes), (4) normals by jet
+/// fitting and MST orientation when the cloud has none, (5) one CGAL reconstruction:
 ///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
 ///                      closed, smooth, fills scan holes; the default for heads;
-///   - advancing_front  interpolating advancing front on jet-smoothed points: keeps open
+///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
 ///                      boundaries; the default for respirators (open shells);
 ///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
 /// The defaults come from measurements on noisy NIOSH headform scans; see README.md.
@@ -32,8 +33,11 @@ struct ReconstructOptions {
   /// the cloud's median spacing; default 3, range > 1
   double outlier_factor = 3.0;
   /// grid simplification cell [mm] applied before reconstruction (0 = none); dense scans are
-  /// thinned to this spacing, which bounds time and memory; default 0.5 mm
-  double simplify_cell_mm = 0.5;
+  /// thinned to this spacing, which bounds time and memory; default 0.8 mm
+  double simplify_cell_mm = 0.8;
+  /// Poisson contouring accuracy: largest distance of a facet to the implicit surface [mm];
+  /// default 0.05, range > 0
+  double poisson_distance_mm = 0.05;
 };
 
 /// What reconstruct did, for the log and the tests.

@@ -114,10 +114,9 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   if (r.closed && !PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);
   r.self_intersecting_after = internal::count_self_intersecting_faces(mesh) > 0;
   // a Surface_mesh is edge-manifold by construction; vertices are checked here
-  std::size_t nm = 0;
-  for (auto v : mesh.vertices())
-    if (PMP::is_non_manifold_vertex(v, mesh)) ++nm;
-  r.manifold = nm == 0;
+  std::vector<SurfaceMesh::Halfedge_index> nm;
+  PMP::non_manifold_vertices(mesh, std::back_inserter(nm));
+  r.manifold = nm.empty();
   r.boundary_loops_after = count_boundary_loops(mesh);
   r.output_vertices = mesh.number_of_vertices();
   r.output_faces = mesh.number_of_faces();

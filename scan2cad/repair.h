@@ -6,8 +6,8 @@
 ///     polygons), orient_polygon_soup (non-manifold vertices are split),
 ///     polygon_soup_to_polygon_mesh; then remove_degenerate_faces;
 ///  2. small disconnected components are removed (the largest one is kept);
-///  3. spikes: a vertex farther from the plane of its one-ring than `spike_factor` × its mean
-///     edge length is moved onto the one-ring centroid (no library does this; see cleanup.cpp);
+///  3. spikes: a vertex farther from the plane of its one-ring than `spike_factor` × the mean
+///     radius is moved onto the one-ring centroid (no library does this; see cleanup.cpp);
 ///  4. self-intersecting faces are deleted (their holes are filled in step 5);
 ///  5. holes are filled with triangulate_refine_and_fair_hole (see fill_holes.h for which
 ///     boundary loops stay open: none on a head, the largest — the rim — on a respirator);
@@ -36,7 +36,7 @@ struct RepairOptions {
   int smoothing_iterations = 1;
   /// time step of smooth_shape (CGAL's unit); default 1e-4, range > 0
   double smoothing_time = 1e-4;
-  /// spike threshold: distance to the one-ring plane / mean one-ring edge length; default 1.0
+  /// spike threshold: distance to the one-ring plane / mean one-ring radius; default 1.0
   double spike_factor = 1.0;
 };
 

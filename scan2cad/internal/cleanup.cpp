@@ -36,8 +36,9 @@ SurfaceMesh soup_to_mesh(pipeline::PolygonSoup soup, SoupStats* stats) {
 }
 
 // CGAL has no spike filter: a spike is a vertex that sticks out of the plane of its one-ring by
-// more than `factor` × the ring's mean edge length (a smooth surface of curvature radius R has
-// offset ≈ e²/(2R) ≪ e there; a spike of 45° or steeper has offset ≥ e).
+// more than `factor` × the ring's mean radius e (distance of the ring to its centroid, which the
+// spike itself does not inflate); a smooth surface of curvature radius R has offset ≈ e²/(2R) ≪ e,
+// a spike of 45° or steeper has offset ≥ e.
 std::size_t remove_spikes(SurfaceMesh& mesh, double factor, int passes) {
   std::size_t moved = 0;
   for (int pass = 0; pass < passes; ++pass) {
@@ -54,7 +55,7 @@ std::size_t remove_spikes(SurfaceMesh& mesh, double factor, int passes) {
       double edge = 0;
       for (std::size_t i = 0; i < ring.size(); ++i) {
         n = n + CGAL::cross_product(ring[i] - centroid, ring[(i + 1) % ring.size()] - centroid);
-        edge += std::sqrt(CGAL::squared_distance(ring[i], mesh.point(v)));
+        edge += std::sqrt(CGAL::squared_distance(ring[i], centroid));
       }
       edge /= double(ring.size());
       const double nn = std::sqrt(n.squared_length());

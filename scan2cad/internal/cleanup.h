@@ -16,7 +16,7 @@ pipeline::SurfaceMesh soup_to_mesh(pipeline::PolygonSoup soup, SoupStats* stats)
 
 /// Moves spike vertices onto their one-ring centroid; @return the number of moves.
 /// A spike: distance from the vertex to the plane through the one-ring centroid with the
-/// one-ring normal > factor × mean one-ring edge length. Border vertices are left alone.
+/// one-ring normal > factor × mean distance of the one-ring to its centroid. Border vertices are left alone.
 std::size_t remove_spikes(pipeline::SurfaceMesh& mesh, double factor, int passes = 3);
 
 /// Faces that intersect another face (PMP::self_intersections).

@@ -1,0 +1,75 @@
+// fill_holes on a sphere with holes cut into it.
+#include <gtest/gtest.h>
+
+#include <CGAL/Polygon_mesh_processing/border.h>
+
+#include <cmath>
+
+#include "scan2cad/fill_holes.h"
+#include "test_meshes.h"
+
+namespace {
+
+// Removes the faces whose centroid lies within `radius` of `centre`.
+void cut_hole(pipeline::SurfaceMesh& m, const pipeline::Point& centre, double radius) {
+  std::vector<pipeline::FaceIndex> cut;
+  for (auto f : m.faces()) {
+    pipeline::Vector c(0, 0, 0);
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) c = c + (m.point(v) - CGAL::ORIGIN);
+    if (CGAL::squared_distance(CGAL::ORIGIN + c / 3.0, centre) < radius * radius) cut.push_back(f);
+  }
+  for (auto f : cut) CGAL::Euler::remove_face(m.halfedge(f), m);
+  m.collect_garbage();
+}
+
+std::size_t loops(const pipeline::SurfaceMesh& m) {
+  std::vector<pipeline::SurfaceMesh::Halfedge_index> h;
+  CGAL::Polygon_mesh_processing::extract_boundary_cycles(m, std::back_inserter(h));
+  return h.size();
+}
+
+}  // namespace
+
+TEST(fill_holes, closes_a_10mm_hole_on_the_sphere_it_belongs_to) {
+  const double r = 50;
+  auto m = test_meshes::mesh_of(test_meshes::sphere_soup(r, 90));  // edges ≈ 1.7 mm
+  cut_hole(m, {r, 0, 0}, 5.0);
+  ASSERT_EQ(loops(m), 1u);
+  const auto holes = scan2cad::fill_holes(m, scan2cad::ScanKind::head);
+  ASSERT_EQ(holes.size(), 1u);
+  EXPECT_TRUE(holes[0].filled);
+  EXPECT_TRUE(holes[0].faired);
+  // faces with centroids within 5 mm are cut: the border lies 5 mm to 5 mm + one edge (1.75 mm) out
+  EXPECT_GE(holes[0].diameter_mm, 9.0);
+  EXPECT_LE(holes[0].diameter_mm, 13.6);
+  EXPECT_TRUE(CGAL::is_closed(m));
+  // A faired patch follows the sphere: a flat cap would sit at the sagitta 5²/(2·50) = 0.25 mm
+  // below it; fairing (C1 continuity) must do clearly better than flat: ≤ 0.1 mm.
+  double worst = 0;
+  for (auto v : m.vertices())
+    worst = std::max(worst, std::abs(std::sqrt((m.point(v) - CGAL::ORIGIN).squared_length()) - r));
+  EXPECT_LT(worst, 0.1);
+}
+
+TEST(fill_holes, respirator_keeps_its_largest_loop_open) {
+  // "Respirator": the sphere's front half (an open cup with a 100 mm rim) with a 12 mm hole.
+  auto m = test_meshes::mesh_of(test_meshes::sphere_soup(50, 60));
+  cut_hole(m, {0, 0, -50}, 70.0);  // removes the back: the rim
+  cut_hole(m, {0, 0, 50}, 6.0);    // a scan hole
+  ASSERT_EQ(loops(m), 2u);
+  const auto holes = scan2cad::fill_holes(m, scan2cad::ScanKind::respirator);
+  ASSERT_EQ(holes.size(), 2u);
+  EXPECT_TRUE(holes[0].kept_open);
+  EXPECT_GT(holes[0].perimeter_mm, holes[1].perimeter_mm);
+  EXPECT_TRUE(holes[1].filled);
+  EXPECT_EQ(loops(m), 1u);
+}
+
+TEST(fill_holes, head_fills_every_loop) {
+  auto m = test_meshes::mesh_of(test_meshes::sphere_soup(50, 60));
+  cut_hole(m, {0, 0, -50}, 70.0);
+  const auto holes = scan2cad::fill_holes(m, scan2cad::ScanKind::head);
+  ASSERT_EQ(holes.size(), 1u);
+  EXPECT_TRUE(holes[0].filled);
+  EXPECT_TRUE(CGAL::is_closed(m));
+}
