@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
+#include "layering/internal/layers_columns.h"
+#include "layering/internal/layers_geometry.h"
 #include "meshing/internal/assemble_geometry.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
@@ -71,8 +74,16 @@ double gap_with_shift(const FeModel& head, const internal::TriangleTree& head_tr
   FeModel moved = resp;
   for (auto& p : moved.nodes) p += s;
   internal::TriangleTree rt(moved.nodes, body_triangles(moved));
+  // Exact pruning: a skin node farther from the respirator's bounding box than the smallest gap so
+  // far cannot lower it (cuts ~36k distance queries per bisection step to a few hundred).
+  Eigen::Vector3d lo = moved.nodes[0], hi = moved.nodes[0];
+  for (const auto& p : moved.nodes) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   for (const auto& t : head_surface(head))
-    for (int v : t) g = std::min(g, rt.distance(head.nodes[v]));
+    for (int v : t) {
+      const Eigen::Vector3d& q = head.nodes[v];
+      const double box = (q - q.cwiseMax(lo).cwiseMin(hi)).norm();
+      if (box < g) g = std::min(g, rt.distance(q));
+    }
   return g;
 }
 
@@ -181,7 +192,17 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
   for (const auto& t : head_surface(head)) check.blocks[0].conn.insert(check.blocks[0].conn.end(), t.begin(), t.end());
   for (std::size_t i = head.blocks.size(); i < out.blocks.size(); ++i)
     if (out.blocks[i].dim >= 2) check.blocks.push_back(out.blocks[i]);
-  r.intersecting_pairs = layering::count_intersecting_faces(check);
+  std::vector<std::array<int, 3>> faces;
+  std::vector<std::pair<int, int>> owner;
+  layering::internal::element_faces(check, &faces, &owner);
+  std::set<std::string> crossing;  // which groups cross, for the error message
+  for (auto [a, b] : layering::internal::intersecting_triangles(check.nodes, faces)) {
+    ++r.intersecting_pairs;
+    const std::string na = check.blocks[owner[a].first].name, nb = check.blocks[owner[b].first].name;
+    crossing.insert(std::min(na, nb) + "/" + std::max(na, nb));
+  }
+  std::string groups;
+  for (const auto& c : crossing) groups += " " + c;
   for (const Block& b : out.blocks) {
     if (b.nodes_per_elem == 6) r.wedges += b.size();
     if (b.nodes_per_elem == 4) r.quads += b.size();
@@ -190,7 +211,7 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
   if (report) *report = r;
   if (r.intersecting_pairs || r.gap_mm < opt.gap_mm - 0.01 || r.strap_gap_mm <= 0)
     throw pipeline::algorithm_failed("assemble", "initial penetration: " + std::to_string(r.intersecting_pairs) +
-                                                     " face pairs intersect, gap " + std::to_string(r.gap_mm) +
+                                                     " face pairs intersect (" + groups + " ), gap " + std::to_string(r.gap_mm) +
                                                      " mm, strap gap " + std::to_string(r.strap_gap_mm) + " mm");
   return out;
 }

@@ -6,7 +6,10 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <set>
 
+#include "layering/internal/layers_columns.h"
+#include "layering/internal/layers_geometry.h"
 #include "meshing/internal/assemble_geometry.h"
 #include "pipeline/error.h"
 
@@ -67,6 +70,27 @@ double lay_strap(const FeModel& head, const internal::TriangleTree& tree, const 
     if (r > 0) path.push_back(o + (r + lift) * d);
   }
   if (path.size() < 10) throw pipeline::bad_input("head", name + ": the strap plane misses the head");
+  // A taut strap bridges the concave places of the outline (ears, the nape): keep its convex
+  // chain (Graham scan; the outline is star-shaped about o, points in increasing angle t, i.e.
+  // counter-clockwise about nrm = u × w, so a convex corner turns left), then
+  // resample the straight spans every 1 mm. Folding the band into hollows made it cross itself.
+  {
+    auto cross2 = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& q) {
+      return ((b - a).cross(q - b)).dot(nrm);
+    };
+    std::vector<Eigen::Vector3d> hull;
+    for (const auto& q : path) {
+      while (hull.size() >= 2 && cross2(hull[hull.size() - 2], hull.back(), q) <= 0) hull.pop_back();
+      hull.push_back(q);
+    }
+    std::vector<Eigen::Vector3d> dense;
+    for (std::size_t i = 0; i + 1 < hull.size(); ++i) {
+      const int m = std::max(1, int(std::ceil((hull[i + 1] - hull[i]).norm() / 1.0)));
+      for (int j = 0; j < m; ++j) dense.push_back(hull[i] + (hull[i + 1] - hull[i]) * (double(j) / m));
+    }
+    dense.push_back(hull.back());
+    path = dense;
+  }
   std::vector<double> s(path.size(), 0.0);
   for (std::size_t i = 1; i < path.size(); ++i) s[i] = s[i - 1] + (path[i] - path[i - 1]).norm();
   std::size_t ib = 0;
@@ -84,7 +108,16 @@ double lay_strap(const FeModel& head, const internal::TriangleTree& tree, const 
     while (k + 2 < s.size() && s[k + 1] < si) ++k;
     const double f = (si - s[k]) / std::max(1e-12, s[k + 1] - s[k]);
     const Eigen::Vector3d c = path[k] + f * (path[k + 1] - path[k]);
-    for (int j = -1; j <= 1; ++j) out->nodes.push_back(c + j * 0.5 * opt.width_mm * nrm);
+    // Across the band: in the skin's tangent plane (normal of the closest skin point × the strap
+    // direction), so where the strap plane cuts the surface obliquely the band lies on the skin
+    // instead of digging one edge into it (pushing such edges out folded the band).
+    Eigen::Vector3d cp, nn;
+    tree.signed_distance(c, &cp, &nn);
+    Eigen::Vector3d across = nn.cross(path[k + 1] - path[k]);
+    if (across.norm() < 1e-9 * (path[k + 1] - path[k]).norm() || !across.allFinite()) across = nrm;
+    across.normalize();
+    if (across.dot(nrm) < 0) across = -across;
+    for (int j = -1; j <= 1; ++j) out->nodes.push_back(c + j * 0.5 * opt.width_mm * across);
   }
   // Push nodes that came closer than the lift (curvature across the width) out along the normal.
   for (int pass = 0; pass < 4; ++pass)
@@ -125,8 +158,65 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
   internal::TriangleTree tree(head.nodes, head_surface(head));
   FeModel out;
   StrapReport r;
-  r.top_length = lay_strap(head, tree, top, lm.at("sellion").y() + opt.top_above_sellion_mm, opt, "strap_top", &out);
+  // The top strap passes ABOVE the ears: if the tragia are known, raise its back point until the
+  // strap plane is 35 mm above the tragion where it passes the ear (an ear reaches ~30 mm above
+  // the tragion; a strap cutting through it cannot be laid without crossing the skin).
+  double top_y = lm.at("sellion").y() + opt.top_above_sellion_mm;
+  if (lm.count("tragion_left") && lm.count("tragion_right")) {
+    const Eigen::Vector3d tr = 0.5 * (lm.at("tragion_left") + lm.at("tragion_right"));
+    const Eigen::Vector3d a = 0.5 * (top.left + top.right);
+    double zb = 1e300;
+    for (const auto& p : head.nodes) zb = std::min(zb, p.z());
+    const double f = (a.z() - tr.z()) / std::max(1e-9, a.z() - zb);  // fraction of the way to the back
+    if (f > 0.05 && f < 1) top_y = std::max(top_y, (tr.y() + 35 - (1 - f) * a.y()) / f);
+  }
+  r.top_length = lay_strap(head, tree, top, top_y, opt, "strap_top", &out);
+  const int bottom_base = int(out.nodes.size());
   r.bottom_length = lay_strap(head, tree, bottom, lm.at("menton").y() - opt.bottom_below_menton_mm, opt, "strap_bottom", &out);
+  // Detect and fix: a quad can still cut through a thin skin feature (ear rim) between its nodes,
+  // which are all off the skin. Push the nodes of every crossing strap face 1 mm further out along
+  // the direction from their closest skin point, until no strap face crosses the skin.
+  for (int pass = 0; pass < 12; ++pass) {
+    FeModel check;
+    check.nodes = head.nodes;
+    const int base = int(check.nodes.size());
+    check.nodes.insert(check.nodes.end(), out.nodes.begin(), out.nodes.end());
+    check.blocks.push_back(Block{"skin", 2, 3, {}});
+    for (const auto& t : head_surface(head)) check.blocks[0].conn.insert(check.blocks[0].conn.end(), t.begin(), t.end());
+    for (Block b : out.blocks)
+      if (b.dim == 2) {
+        for (int& v : b.conn) v += base;
+        check.blocks.push_back(b);
+      }
+    std::vector<std::array<int, 3>> faces;
+    std::vector<std::pair<int, int>> owner;
+    layering::internal::element_faces(check, &faces, &owner);
+    std::set<int> push;
+    for (auto [a, b] : layering::internal::intersecting_triangles(check.nodes, faces))
+      for (int f : {a, b})
+        if (owner[f].first > 0)
+          for (int v : faces[f]) push.insert(v - base);
+    if (push.empty()) break;
+    if (pass == 11) {
+      const Eigen::Vector3d& q = out.nodes[*push.begin()];
+      throw pipeline::algorithm_failed("straps", std::to_string(push.size()) + " strap nodes still on faces crossing the skin, e.g. near (" +
+                                                     std::to_string(q.x()) + ", " + std::to_string(q.y()) + ", " + std::to_string(q.z()) + ") mm");
+    }
+    for (int v : push) {
+      Eigen::Vector3d cp;
+      tree.signed_distance(out.nodes[v], &cp);
+      out.nodes[v] += (out.nodes[v] - cp).normalized();
+    }
+  }
+  // Centre-line lengths after the fix (stations: 3 nodes each, centre in the middle).
+  auto centre_length = [&](int base, const char* band) {
+    const int n = int(out.find(band)->size() / 2);
+    double len = 0;
+    for (int i = 0; i < n; ++i) len += (out.nodes[base + 3 * (i + 1) + 1] - out.nodes[base + 3 * i + 1]).norm();
+    return len;
+  };
+  r.top_length = centre_length(0, "strap_top");
+  r.bottom_length = centre_length(bottom_base, "strap_bottom");
   r.min_gap = 1e300;
   for (const Block& b : out.blocks)
     if (b.dim == 2) {
