@@ -116,3 +116,44 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
                           "'); t = {c.type for c in m.cells}; assert {'wedge', 'quad', 'triangle'} <= t, t\"";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
 }
+
+namespace {
+// Runs a stage with stderr captured; returns the exit status and the stderr lines other than the
+// option echo (every stage logs its resolved options first).
+int run_stage(const std::string& args, std::vector<std::string>* err_lines) {
+  const std::string err = (std::filesystem::temp_directory_path() / "assemble_cli_err.txt").string();
+  const int rc = WEXITSTATUS(std::system((std::string(BIN_DIR) + "/" + args + " 2>" + err).c_str()));
+  std::ifstream in(err);
+  for (std::string l; std::getline(in, l);)
+    if (l.find('=') == std::string::npos) err_lines->push_back(l);  // skip the echoed "key=value" options
+  return rc;
+}
+}  // namespace
+
+TEST(straps_cli, missing_head_gives_one_error_line_exit_2_no_output) {
+  const std::string out = (std::filesystem::temp_directory_path() / "straps_cli_none.msh").string();
+  std::filesystem::remove(out);
+  std::vector<std::string> err;
+  EXPECT_EQ(run_stage("straps --head /nonexistent_head.msh --landmarks /nonexistent.json --respirator /nonexistent_r.msh --out " + out, &err), 2);
+  ASSERT_EQ(err.size(), 1u);
+  EXPECT_NE(err[0].find("/nonexistent_head.msh"), std::string::npos) << err[0];
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(assemble_cli, bad_landmarks_give_one_error_line_exit_2_no_outputs) {
+  const auto dir = std::filesystem::temp_directory_path() / "assemble_cli";
+  std::filesystem::create_directories(dir);
+  const std::string bad = (dir / "bad_landmarks.json").string(), out = (dir / "model.msh").string(),
+                    d1 = (dir / "d1.json").string(), d2 = (dir / "d2.json").string(), m = (dir / "m.msh").string();
+  for (const auto& f : {out, d1, d2}) std::filesystem::remove(f);
+  pipeline::write_text_atomic(bad, "{\"landmarks\": {}}");
+  layering::write_fe_model(scene().resp, m);  // a readable model, so the landmarks are what fails
+  std::vector<std::string> err;
+  EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " + bad +
+                          " --materials " + kMaterials + " --out " + out + " --deck1 " + d1 + " --deck2 " + d2,
+                      &err),
+            2);
+  ASSERT_EQ(err.size(), 1u);
+  EXPECT_NE(err[0].find("bad_landmarks.json"), std::string::npos) << err[0];
+  for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+}
