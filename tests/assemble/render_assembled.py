@@ -20,7 +20,7 @@ for name, blocks in m.cell_sets_dict.items():
         cells = m.cells_dict[ctype][idx]
         polys.append((m.points[cells], colors[key], name))
 fig = plt.figure(figsize=(12, 6))
-for k, (elev, azim, title) in enumerate([(0, 90, "front (+z toward viewer)"), (0, 0, "side (subject's left)")]):
+for k, (elev, azim, title) in enumerate([(0, 0, "front (+z toward viewer)"), (0, 90, "side (face to the left)")]):
     ax = fig.add_subplot(1, 2, k + 1, projection="3d")
     for verts, col, name in polys:
         ax.add_collection3d(Poly3DCollection(verts, facecolor=col, edgecolor="k", linewidths=0.05,
