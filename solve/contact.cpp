@@ -129,22 +129,88 @@ ContactPair::ContactPair(ContactSpec spec, std::size_t n_nodes)
         node_on_boundary_[std::size_t(tri_local_[t][std::size_t(k)])] = 1;
         node_on_boundary_[std::size_t(tri_local_[t][std::size_t((k + 1) % 3)])] = 1;
       }
-  if (!spec_.slave_tris.empty()) {  // slave facets in slave-local indices, for the pressure
+  if (!spec_.slave_tris.empty()) {  // slave facets in slave-local indices
+    if (spec_.segment_subdivision < 1 || spec_.segment_subdivision > 16)
+      throw pipeline::bad_input(what, "segment subdivision " + std::to_string(spec_.segment_subdivision) +
+                                          ", expected in [1, 16]");
     std::map<int, int> slave_index;
     for (std::size_t j = 0; j < spec_.slave_nodes.size(); ++j) slave_index.emplace(spec_.slave_nodes[j], int(j));
     for (const auto& tri : spec_.slave_tris) {
       std::array<int, 3> l{-1, -1, -1};
       for (int k = 0; k < 3; ++k) {
-        if (tri[k] < 0 || std::size_t(tri[k]) >= n_nodes)
-          throw pipeline::bad_input(what, "slave facet node " + std::to_string(tri[k]) + " out of range");
-        auto it = slave_index.find(tri[k]);
-        if (it != slave_index.end()) l[k] = it->second;
+        auto it = slave_index.find(tri[std::size_t(k)]);
+        if (it == slave_index.end())
+          throw pipeline::bad_input(what, "slave facet node " + std::to_string(tri[std::size_t(k)]) +
+                                              " is not a slave node");
+        l[std::size_t(k)] = it->second;
       }
+      if (l[0] == l[1] || l[1] == l[2] || l[0] == l[2])
+        throw pipeline::bad_input(what, "slave facet repeats a node");
       slave_tri_local_.push_back(l);
     }
   }
-  side_.assign(spec_.slave_nodes.size(), 0);
-  stick_force_.assign(spec_.slave_nodes.size(), Vec{0, 0, 0});
+  // Contact points. Facets: the centroids of the n² sub-triangles of a uniform subdivision in
+  // barycentric coordinates (n(n+1)/2 upright, n(n−1)/2 inverted, equal areas), each 1/n² of the
+  // facet. Nodes on no facet (all of them without facets): one point each.
+  const int n_sub = spec_.segment_subdivision;
+  std::vector<char> on_facet(spec_.slave_nodes.size(), 0);
+  for (std::size_t t = 0; t < slave_tri_local_.size(); ++t) {
+    const auto& l = slave_tri_local_[t];
+    for (int k : l) on_facet[std::size_t(k)] = 1;
+    auto add = [&](double b1, double b2) {
+      Point pt;
+      pt.node = l;
+      pt.N = {1 - b1 - b2, b1, b2};
+      pt.facet = int(t);
+      pt.area_fraction = 1.0 / (n_sub * n_sub);
+      points_.push_back(pt);
+    };
+    for (int i = 0; i < n_sub; ++i)
+      for (int j = 0; i + j < n_sub; ++j) {
+        add((i + 1.0 / 3) / n_sub, (j + 1.0 / 3) / n_sub);
+        if (i + j + 1 < n_sub) add((i + 2.0 / 3) / n_sub, (j + 2.0 / 3) / n_sub);
+      }
+  }
+  for (std::size_t j = 0; j < spec_.slave_nodes.size(); ++j)
+    if (!on_facet[j]) {
+      Point pt;
+      pt.node = {int(j), -1, -1};
+      pt.N = {1, 0, 0};
+      points_.push_back(pt);
+    }
+  side_.assign(points_.size(), 0);
+  stick_force_.assign(points_.size(), Vec{0, 0, 0});
+}
+
+std::vector<double> ContactPair::history() const {
+  if (edge_length_ == 0) return {};
+  // Layout: edge length, depth, margin; master positions at the last grid build (3 per master
+  // node); per point: side, friction force (3).
+  std::vector<double> h{edge_length_, depth_, margin_};
+  h.reserve(3 + x_built_.size() + 4 * points_.size());
+  h.insert(h.end(), x_built_.begin(), x_built_.end());
+  for (std::size_t p = 0; p < points_.size(); ++p)
+    h.insert(h.end(), {double(side_[p]), stick_force_[p][0], stick_force_[p][1], stick_force_[p][2]});
+  return h;
+}
+
+void ContactPair::set_history(const std::vector<double>& h) {
+  if (h.empty()) return;  // saved before the first step: nothing to restore
+  const std::size_t n_built = 3 * master_nodes_.size(), expected = 3 + n_built + 4 * points_.size();
+  if (!history_fits(h))
+    throw pipeline::bad_input("contact pair '" + spec_.name + "'",
+                              "restart history has " + std::to_string(h.size()) + " values, expected " +
+                                  std::to_string(expected));
+  edge_length_ = h[0];
+  depth_ = h[1];
+  margin_ = h[2];
+  x_built_.assign(h.begin() + 3, h.begin() + 3 + long(n_built));
+  grid_stale_ = true;  // re-built from x_built_ at the next call: the same grid as before the save
+  const double* q = h.data() + 3 + n_built;
+  for (std::size_t p = 0; p < points_.size(); ++p, q += 4) {
+    side_[p] = static_cast<signed char>(q[0]);
+    stick_force_[p] = {q[1], q[2], q[3]};
+  }
 }
 
 void ContactPair::add_forces(const double* x, const double* v, const double* mass, double dt,
@@ -168,20 +234,22 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
     }
   }
   std::vector<Vec> node_n(nm);
-  std::vector<double> trib(nm);
+  std::vector<double> trib(nm), mass_area(nm);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < long(nm); ++i) {
     Vec s{0, 0, 0};
-    double a = 0;
+    double a = 0, a_angle = 0;
     for (int j = node_tri_start_[std::size_t(i)]; j < node_tri_start_[std::size_t(i) + 1]; ++j) {
       const int t = node_tris_[std::size_t(j)];
       const auto& l = tri_local_[std::size_t(t)];
       const int k = l[0] == i ? 0 : (l[1] == i ? 1 : 2);
       for (int d = 0; d < 3; ++d) s[std::size_t(d)] += angle[std::size_t(t)][std::size_t(k)] * face_n[std::size_t(t)][std::size_t(d)];
       a += area[std::size_t(t)] / 3;
+      a_angle += area[std::size_t(t)] * angle[std::size_t(t)][std::size_t(k)] / M_PI;
     }
     node_n[std::size_t(i)] = unit(s);
     trib[std::size_t(i)] = a;
+    mass_area[std::size_t(i)] = a_angle;
   }
   if (edge_length_ == 0) {  // first call: sizes of the search from the master mesh
     double sum = 0;
@@ -192,50 +260,82 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
     depth_ = edge_length_;
     margin_ = 0.25 * edge_length_;
   }
-  // 2. Re-build the search grid when a master node has moved more than the margin.
+  // Slave tributary areas (1/3 of the adjacent facets) and the contact points' positions.
+  const std::size_t np = points_.size();
+  std::vector<double> facet_area(slave_tri_local_.size()), slave_mass_area(ns, 0.0);
+  for (std::size_t t = 0; t < slave_tri_local_.size(); ++t) {
+    const auto& tri = spec_.slave_tris[t];
+    const double* a = x + 3 * std::size_t(tri[0]);
+    facet_area[t] = 0.5 * norm(cross(sub(x + 3 * std::size_t(tri[1]), a), sub(x + 3 * std::size_t(tri[2]), a)));
+    for (int k = 0; k < 3; ++k) {
+      const double* c = x + 3 * std::size_t(tri[std::size_t(k)]);
+      const Vec u = unit(sub(x + 3 * std::size_t(tri[std::size_t((k + 1) % 3)]), c));
+      const Vec w = unit(sub(x + 3 * std::size_t(tri[std::size_t((k + 2) % 3)]), c));
+      slave_mass_area[std::size_t(slave_tri_local_[t][std::size_t(k)])] +=
+          facet_area[t] * std::acos(std::clamp(dot(u, w), -1.0, 1.0)) / M_PI;
+    }
+  }
+  auto point_x = [&](std::size_t pi) {
+    const Point& pt = points_[pi];
+    Vec q{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      if (pt.node[std::size_t(k)] >= 0) {
+        const double* xs = x + 3 * std::size_t(spec_.slave_nodes[std::size_t(pt.node[std::size_t(k)])]);
+        for (int d = 0; d < 3; ++d) q[std::size_t(d)] += pt.N[std::size_t(k)] * xs[d];
+      }
+    return q;
+  };
+  // 2. Re-build the search grid when a master node has moved more than the margin (after a
+  // restart: re-build it from the saved positions of its last build, so it is the same grid).
   bool rebuild = x_built_.size() != 3 * nm;
   for (std::size_t i = 0; i < nm && !rebuild; ++i) {
     const Vec d = sub(X(int(i)), &x_built_[3 * i]);
     rebuild = dot(d, d) > margin_ * margin_;
   }
-  if (rebuild) {
+  if (rebuild || grid_stale_) {
+    if (rebuild) {
+      x_built_.resize(3 * nm);
+      for (std::size_t i = 0; i < nm; ++i)
+        for (int d = 0; d < 3; ++d) x_built_[3 * i + std::size_t(d)] = X(int(i))[d];
+    }
+    grid_stale_ = false;
+    auto XB = [&](int local_node) { return &x_built_[3 * std::size_t(local_node)]; };
     auto& boxes = boxes_;
     boxes.resize(nt);
     const double inflate = depth_ + margin_;
     for (std::size_t t = 0; t < nt; ++t) {
       auto& b = boxes[t];
       for (int d = 0; d < 3; ++d) {
-        double lo = X(tri_local_[t][0])[d], hi = lo;
+        double lo = XB(tri_local_[t][0])[d], hi = lo;
         for (int k = 1; k < 3; ++k) {
-          lo = std::min(lo, X(tri_local_[t][std::size_t(k)])[d]);
-          hi = std::max(hi, X(tri_local_[t][std::size_t(k)])[d]);
+          lo = std::min(lo, XB(tri_local_[t][std::size_t(k)])[d]);
+          hi = std::max(hi, XB(tri_local_[t][std::size_t(k)])[d]);
         }
         b[std::size_t(d)] = lo - inflate;
         b[std::size_t(d) + 3] = hi + inflate;
       }
     }
     grid_.build(boxes, 0.5);  // half-box cells: ~4× fewer candidates per query on a surface
-    // Visit the slaves cell by cell (cache locality only: each slave's result is stored at its
+    // Visit the points cell by cell (cache locality only: each point's result is stored at its
     // own index, so the order changes nothing in the results).
-    std::vector<std::pair<long, int>> key(ns);
-    for (std::size_t j = 0; j < ns; ++j) key[j] = {grid_.cell_of(x + 3 * std::size_t(spec_.slave_nodes[j])), int(j)};
+    std::vector<std::pair<long, int>> key(np);
+    for (std::size_t j = 0; j < np; ++j) key[j] = {grid_.cell_of(point_x(j).data()), int(j)};
     std::sort(key.begin(), key.end());
-    slave_order_.resize(ns);
-    for (std::size_t j = 0; j < ns; ++j) slave_order_[j] = key[j].second;
-    x_built_.resize(3 * nm);
-    for (std::size_t i = 0; i < nm; ++i)
-      for (int d = 0; d < 3; ++d) x_built_[3 * i + std::size_t(d)] = X(int(i))[d];
+    slave_order_.resize(np);
+    for (std::size_t j = 0; j < np; ++j) slave_order_[j] = key[j].second;
   }
-  // 3. Per slave: closest master point, gap, penalty, damping and friction forces.
-  std::vector<SlaveContact> contact(ns);
+  // 3. Per contact point: closest master point, gap, penalty, damping and friction forces.
+  std::vector<SlaveContact> contact(np);
+  std::vector<double> point_area(np, 0.0);
   const double s_pen = spec_.penalty_scale, xi = spec_.damping_ratio, mu = spec_.friction;
   const double omega = std::sqrt(s_pen) / dt, boundary_tol = 0.1 * edge_length_;
   const bool two_sided = spec_.two_sided;
 #pragma omp parallel for schedule(dynamic, 256)
-  for (long js = 0; js < long(ns); ++js) {
+  for (long js = 0; js < long(np); ++js) {
     const std::size_t j = std::size_t(slave_order_[std::size_t(js)]);
-    const int s = spec_.slave_nodes[j];
-    const double* p = x + 3 * std::size_t(s);
+    const Point& pt = points_[j];
+    const Vec px = point_x(j);
+    const double* p = px.data();
     const long cell = grid_.cell_of(p);
     internal::ClosestPoint best{};
     int best_tri = -1;
@@ -249,7 +349,7 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
         const double bound = best_tri < 0 ? depth_ * depth_ : best.dist2;
         if (plane * plane > bound) continue;
         const auto cp = internal::closest_point_on_triangle(p, X(l[0]), X(l[1]), X(l[2]));
-        if (best_tri < 0 || cp.dist2 < best.dist2) {  // ties: the lower triangle id
+        if (best_tri < 0 || cp.dist2 < best.dist2) {  // ties: the first in the cell (lower id)
           best = cp;
           best_tri = *it;
         }
@@ -284,6 +384,30 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
     const double g = dot(diff, n_ps), d = std::sqrt(best.dist2);
     if (two_sided && side_[j] == 0) side_[j] = g >= 0 ? 1 : -1;
     const double side = two_sided ? side_[j] : 1;
+    // The point's masses: a facet point carries area a = area_fraction of its facet and the
+    // mass a·μ of each side, μ the nodal mass per area interpolated at the point (slave: by N,
+    // master: by w). The nodal areas are angle-weighted (each corner angle/π of a facet): on a
+    // quadrilateral face split into two triangles they are the quarter cells the lumped masses
+    // of hexahedra and wedges stand for, so μ is uniform on a uniform layer, corners included
+    // (the 1/3 rule gives the corners 1/6 or 1/3 of a cell: ±50 % penalty there). A node point
+    // (no area) takes whole nodal masses.
+    double m_slave = 0, m_master = 0;
+    if (pt.facet >= 0) {
+      const double a = pt.area_fraction * facet_area[std::size_t(pt.facet)];
+      point_area[j] = a;
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t sl = std::size_t(pt.node[std::size_t(k)]);
+        if (slave_mass_area[sl] > 0)
+          m_slave += pt.N[std::size_t(k)] * a * mass[spec_.slave_nodes[sl]] / slave_mass_area[sl];
+      }
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t ml = std::size_t(l[std::size_t(k)]);
+        if (mass_area[ml] > 0) m_master += best.weight[std::size_t(k)] * a * mass[master_nodes_[ml]] / mass_area[ml];
+      }
+    } else {
+      m_slave = mass[spec_.slave_nodes[std::size_t(pt.node[0])]];
+      for (int k = 0; k < 3; ++k) m_master += best.weight[std::size_t(k)] * mass[master_nodes_[std::size_t(l[std::size_t(k)])]];
+    }
     if (side * g >= 0) {  // outside: no contact
       stick_force_[j] = {0, 0, 0};
       continue;
@@ -307,14 +431,16 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
       pen = 0;
     }
     // Reduced mass, stiffness and damping.
-    double m_master = 0;
-    for (int k = 0; k < 3; ++k) m_master += best.weight[std::size_t(k)] * mass[master_nodes_[std::size_t(l[std::size_t(k)])]];
-    const double m_slave = mass[s];
     double m_red = m_slave > 0 && m_master > 0 ? m_slave * m_master / (m_slave + m_master)
                                                : std::max(m_slave, m_master);
     if (!(m_red > 0)) continue;
     const double k_pen = s_pen * m_red / (dt * dt);
-    Vec v_rel{v[3 * s], v[3 * s + 1], v[3 * s + 2]};
+    Vec v_rel{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      if (pt.node[std::size_t(k)] >= 0) {
+        const double* vs = v + 3 * std::size_t(spec_.slave_nodes[std::size_t(pt.node[std::size_t(k)])]);
+        for (int q = 0; q < 3; ++q) v_rel[std::size_t(q)] += pt.N[std::size_t(k)] * vs[q];
+      }
     for (int k = 0; k < 3; ++k) {
       const double* vm = v + 3 * std::size_t(master_nodes_[std::size_t(l[std::size_t(k)])]);
       for (int q = 0; q < 3; ++q) v_rel[std::size_t(q)] -= best.weight[std::size_t(k)] * vm[q];
@@ -339,36 +465,28 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
       c.tangent_force = ft;
     }
   }
-  // 4. Deterministic gather in slave order: nodal forces, master pressure and shear.
-  std::vector<double> slave_area;
-  if (!slave_tri_local_.empty()) {
-    slave_area.assign(ns, 0.0);
-    for (std::size_t t = 0; t < slave_tri_local_.size(); ++t) {
-      const auto& tri = spec_.slave_tris[t];
-      const double* a = x + 3 * std::size_t(tri[0]);
-      const double third = norm(cross(sub(x + 3 * std::size_t(tri[1]), a), sub(x + 3 * std::size_t(tri[2]), a))) / 6;
-      for (int l : slave_tri_local_[t])
-        if (l >= 0) slave_area[std::size_t(l)] += third;
-    }
-  }
+  // 4. Deterministic gather in point order: nodal forces, master pressure and shear.
+  const bool segments = !slave_tri_local_.empty();
   std::vector<double> normal_sum(nm, 0.0), area_sum(nm, 0.0);
   std::vector<Vec> shear_sum(nm, Vec{0, 0, 0});
   resultant_ = {0, 0, 0};
   max_penetration_ = 0;
-  for (std::size_t j = 0; j < ns; ++j) {
+  for (std::size_t j = 0; j < np; ++j) {
     const SlaveContact& c = contact[j];
     if (c.tri < 0) continue;
-    if (!slave_area.empty())
-      for (int k = 0; k < 3; ++k) area_sum[std::size_t(tri_local_[std::size_t(c.tri)][std::size_t(k)])] += c.w[std::size_t(k)] * slave_area[j];
+    const auto& l = tri_local_[std::size_t(c.tri)];
+    if (segments)
+      for (int k = 0; k < 3; ++k) area_sum[std::size_t(l[std::size_t(k)])] += c.w[std::size_t(k)] * point_area[j];
     if (!c.touching) continue;
-    const std::size_t s = std::size_t(spec_.slave_nodes[j]);
     Vec force;
     for (int q = 0; q < 3; ++q) force[std::size_t(q)] = c.normal_force[std::size_t(q)] + c.tangent_force[std::size_t(q)];
-    for (int q = 0; q < 3; ++q) {
-      f[3 * s + std::size_t(q)] += force[std::size_t(q)];
-      resultant_[std::size_t(q)] += force[std::size_t(q)];
-    }
-    const auto& l = tri_local_[std::size_t(c.tri)];
+    const Point& pt = points_[j];
+    for (int k = 0; k < 3; ++k)
+      if (pt.node[std::size_t(k)] >= 0) {
+        const std::size_t s = std::size_t(spec_.slave_nodes[std::size_t(pt.node[std::size_t(k)])]);
+        for (int q = 0; q < 3; ++q) f[3 * s + std::size_t(q)] += pt.N[std::size_t(k)] * force[std::size_t(q)];
+      }
+    for (int q = 0; q < 3; ++q) resultant_[std::size_t(q)] += force[std::size_t(q)];
     for (int k = 0; k < 3; ++k) {
       const std::size_t m = std::size_t(l[std::size_t(k)]);
       const double w = c.w[std::size_t(k)];
@@ -383,7 +501,7 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
   }
   for (std::size_t i = 0; i < nm; ++i) {
     const std::size_t node = std::size_t(master_nodes_[i]);
-    const double area = slave_area.empty() ? trib[i] : area_sum[i];
+    const double area = segments ? area_sum[i] : trib[i];
     pressure_[node] = area > 0 ? normal_sum[i] / area : 0;
     shear_[node] = area > 0 ? norm(shear_sum[i]) / area : 0;
   }

@@ -20,11 +20,14 @@ struct ContactSpec {
   double damping_ratio = 0.0;                  ///< ξ of the viscous contact damping 2·m·ω·v, ω = √(k/m); range [0, 1]
   double friction = 0.0;                       ///< Coulomb coefficient μ ≥ 0 (0: frictionless)
   bool two_sided = false;                      ///< thin shells: slaves are pushed out on either side
-  /// Optional slave surface facets (node ids; corners outside slave_nodes are ignored). When
-  /// given, pressure() divides the gathered normal force by the slave area gathered with the
-  /// same weights instead of the master tributary area: exact for a uniform pressure on
-  /// non-matching meshes (no aliasing when the slave spacing is not a multiple of the master's).
+  /// Slave surface facets (node ids, every corner a slave node; the Solver fills them when the
+  /// slave group is a surface). When given, contact is integrated over the slave surface
+  /// (segment-to-surface): each facet is cut into segment_subdivision² sub-triangles whose
+  /// centroids are the contact points, each carrying its share of the facet area and of the slave
+  /// mass; slave nodes on no facet stay node-to-surface points. Without facets every slave node is
+  /// one point (node-to-surface). See contact.cpp for why.
   std::vector<std::array<int, 3>> slave_tris;
+  int segment_subdivision = 3;                 ///< sub-triangles per facet edge, ≥ 1 (used with slave_tris)
 };
 
 /// State and outputs of one contact pair.
@@ -44,7 +47,8 @@ class ContactPair {
 
   /// Normal contact pressure per node after the last add_forces, [MPa]: normal contact force
   /// gathered on the master nodes divided by their tributary area (1/3 of the adjacent facets;
-  /// with spec.slave_tris: by the slave area gathered the same way); 0 away from contact.
+  /// with spec.slave_tris: by the slave area of the contact points gathered with the same
+  /// weights, i.e. the consistent area); 0 away from contact.
   /// Size n_nodes, nonzero on master nodes only.
   const std::vector<double>& pressure() const { return pressure_; }
   /// Tangential (shear) contact traction per node, [MPa], like pressure(). Size n_nodes.
@@ -54,6 +58,19 @@ class ContactPair {
   /// Deepest penetration of a slave node after the last add_forces [mm] (0 if none).
   double max_penetration() const { return max_penetration_; }
   const ContactSpec& spec() const { return spec_; }
+  /// Number of contact points (slave nodes, or facet sub-triangles with spec.slave_tris).
+  std::size_t n_points() const { return points_.size(); }
+
+  /// History needed to continue a run exactly (restart file): the search sizes fixed at the first
+  /// call, and per contact point the side of a two-sided master and the elastic-slip friction
+  /// force. Empty before the first add_forces.
+  std::vector<double> history() const;
+  /// Restores history(). @throws pipeline::Error(bad_input) if the size does not fit this pair.
+  void set_history(const std::vector<double>& h);
+  /// Whether h (from history()) was written by a pair of this size (empty fits).
+  bool history_fits(const std::vector<double>& h) const {
+    return h.empty() || h.size() == 3 + 3 * master_nodes_.size() + 4 * points_.size();
+  }
 
  private:
   ContactSpec spec_;
@@ -68,15 +85,26 @@ class ContactPair {
   std::vector<std::array<int, 2>> edge_tris_;    ///< the triangles of each edge (-1: boundary edge)
   std::vector<int> node_tri_start_, node_tris_;  ///< triangles around each master node (CSR)
   std::vector<char> node_on_boundary_;           ///< master node on a boundary edge
-  std::vector<std::array<int, 3>> slave_tri_local_;  ///< slave_tris as indices into slave_nodes (-1: none)
+  std::vector<std::array<int, 3>> slave_tri_local_;  ///< slave_tris as indices into slave_nodes
+  /// A contact point: x = Σ N_k x(node_k) over up to 3 slave nodes (slave-local; -1 unused).
+  /// facet ≥ 0: a sub-triangle centroid of that slave facet, carrying area_fraction of its area;
+  /// facet < 0: a slave node alone (node-to-surface).
+  struct Point {
+    std::array<int, 3> node{-1, -1, -1};
+    std::array<double, 3> N{0, 0, 0};
+    int facet = -1;
+    double area_fraction = 0;
+  };
+  std::vector<Point> points_;
   double edge_length_ = 0;                       ///< mean master edge length at the first call [mm]
   double depth_ = 0;                             ///< deepest penetration searched for [mm]
   double margin_ = 0;                            ///< grid reused until a master node moves this far [mm]
   std::vector<std::array<double, 6>> boxes_;     ///< master triangle boxes inflated by depth + margin
   internal::BoxGrid grid_;                       ///< bucket sort of boxes_
   std::vector<double> x_built_;                  ///< master node positions at the last grid build
-  std::vector<int> slave_order_;                 ///< slaves sorted by grid cell (memory locality)
-  // Per-slave history: side of a two-sided master (+1/-1, 0 unknown), elastic-slip friction force [N].
+  bool grid_stale_ = false;                      ///< restored history: re-build the grid from x_built_
+  std::vector<int> slave_order_;                 ///< contact points sorted by grid cell (memory locality)
+  // Per-point history: side of a two-sided master (+1/-1, 0 unknown), elastic-slip friction force [N].
   std::vector<signed char> side_;
   std::vector<std::array<double, 3>> stick_force_;
 };

@@ -9,7 +9,9 @@
 
 namespace solve {
 namespace {
-const char kMagic[16] = "SOLVE_STATE_v1\n";
+// v2 adds the contact history after the v1 content; v1 files (no contact history) still load.
+const char kMagic[16] = "SOLVE_STATE_v2\n";
+const char kMagicV1[16] = "SOLVE_STATE_v1\n";
 
 void put_vec(std::ofstream& o, const std::vector<double>& v) {
   const std::uint64_t n = v.size();
@@ -29,6 +31,9 @@ void save_state(const std::string& path, const SolverState& s) {
     put_vec(o, s.x);
     put_vec(o, s.v);
     put_vec(o, s.rigid);
+    const std::uint64_t n_pairs = s.contact_history.size();
+    o.write(reinterpret_cast<const char*>(&n_pairs), sizeof n_pairs);
+    for (const auto& h : s.contact_history) put_vec(o, h);
     if (!o) throw pipeline::io_failed(path, "write failed");
   });
 }
@@ -38,7 +43,8 @@ SolverState load_state(const std::string& path) {
   if (!in) throw pipeline::bad_input(path, "cannot open the state file");
   char magic[16];
   in.read(magic, sizeof magic);
-  if (!in || std::memcmp(magic, kMagic, sizeof magic) != 0)
+  const bool v1 = in && std::memcmp(magic, kMagicV1, sizeof magic) == 0;
+  if (!in || (!v1 && std::memcmp(magic, kMagic, sizeof magic) != 0))
     throw pipeline::bad_input(path, "not a solve state file (bad header)");
   double sc[8];
   in.read(reinterpret_cast<char*>(sc), sizeof sc);
@@ -57,6 +63,13 @@ SolverState load_state(const std::string& path) {
   get_vec(s.x);
   get_vec(s.v);
   get_vec(s.rigid);
+  if (!v1) {
+    std::uint64_t n_pairs = 0;
+    in.read(reinterpret_cast<char*>(&n_pairs), sizeof n_pairs);
+    if (!in || n_pairs > (1ull << 20)) throw pipeline::bad_input(path, "truncated state file");
+    s.contact_history.resize(n_pairs);
+    for (auto& h : s.contact_history) get_vec(h);
+  }
   if (s.x.size() != s.X.size() || s.v.size() != s.X.size())
     throw pipeline::bad_input(path, "inconsistent state file (array sizes differ)");
   return s;

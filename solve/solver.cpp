@@ -122,6 +122,9 @@ Solver::Solver(Model model) : p_(std::make_unique<Impl>()) {
     spec.name = c.name;
     spec.slave_nodes = m.group(c.slave);
     spec.master_tris = m.surface(c.master);
+    // A slave group that is a surface (2D elements, or the boundary of 3D ones) is integrated
+    // over its facets (segment-to-surface, contact.h); a node group stays node-to-surface.
+    if (auto it = m.surfaces.find(c.slave); it != m.surfaces.end()) spec.slave_tris = it->second;
     spec.penalty_scale = c.penalty_scale;
     spec.damping_ratio = c.damping_ratio;
     spec.friction = c.friction;
@@ -314,6 +317,7 @@ SolverState Solver::state() const {
   st.w_external = s.en.external;
   st.e_initial = s.e_initial;
   st.e_initial_set = s.e_initial_set;
+  for (const auto& c : s.pairs) st.contact_history.push_back(c.history());
   return st;
 }
 
@@ -329,6 +333,15 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
   s.x = st.x;
   s.v = st.v;
   internal::set_rigid_velocities(s.con, s.x, st.rigid);
+  // Contact history (friction stick forces, sides of two-sided masters, search state): carried
+  // over when the state was written with the same contact pairs (a restart, or a later stage with
+  // the same deck contacts), so friction keeps its stick forces. A later stage with other pairs
+  // starts its contact afresh: its history would not mean anything for them.
+  bool same_pairs = st.contact_history.size() == s.pairs.size();
+  for (std::size_t k = 0; k < s.pairs.size() && same_pairs; ++k)
+    same_pairs = s.pairs[k].history_fits(st.contact_history[k]);
+  if (same_pairs)
+    for (std::size_t k = 0; k < s.pairs.size(); ++k) s.pairs[k].set_history(st.contact_history[k]);
   if (!reset_time) {
     s.time = st.time;
     s.step = st.step;

@@ -42,6 +42,9 @@ struct SolverState {
   std::vector<double> rigid;             ///< per rigid body: V (3), ω (3)
   double e_contact = 0, e_damping = 0, w_external = 0, e_initial = 0;
   bool e_initial_set = false;
+  /// Per contact pair (deck order): ContactPair::history() — friction stick forces, sides of
+  /// two-sided masters and the search state (empty: none saved, contact starts afresh).
+  std::vector<std::vector<double>> contact_history;
 };
 
 class Solver {
