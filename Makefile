@@ -8,12 +8,13 @@ BUILD ?= build
 JOBS ?= 2
 export BUILD
 
-.PHONY: help deps build test test-fast bench case cases-all clean
+.PHONY: help deps build stages test test-fast bench case cases-all clean
 .DEFAULT_GOAL := $(if $(case),case,help)
 
 help:
 	@echo "make case=<headform>_<respirator>   e.g. make case=medium_onesize (cases in data/cases/)"
 	@echo "   HEADFORM_SCAN=path RESPIRATOR_SCAN=path   swap in your own scans"
+	@echo "make stages      build only the stage programs"
 	@echo "make test        build and run all tests (CTest)"
 	@echo "make test-fast   tests not labelled slow"
 	@echo "make bench       build and run the benchmarks"
@@ -38,10 +39,16 @@ test-fast: build
 bench: build
 	@for b in $(BUILD)/bin/bench_*; do echo "== $$b"; $$b || exit 1; done
 
-case: build
+# A case needs only the stage programs, not the tests and benchmarks.
+STAGE_PROGRAMS := generate_scan reconstruct repair align landmarks segment fit surface_mesh layers straps assemble solve
+
+stages: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS) --target $(STAGE_PROGRAMS)
+
+case: stages
 	$(MAKE) --no-print-directory -f Makefile.cases case=$(case)
 
-cases-all: build
+cases-all: stages
 	@for c in $(basename $(notdir $(wildcard data/cases/*.mk))); do \
 	  $(MAKE) --no-print-directory -f Makefile.cases case=$$c || exit 1; done
 
