@@ -1,7 +1,7 @@
 // bench_scan2cad: reconstruct + repair of a simulated scan of a real surface, timed, with the
 // distance of the result to that surface. Run under /usr/bin/time -v for peak memory:
-//   /usr/bin/time -v build/bin/bench_scan2cad --mesh ../shared/data/headforms/NIOSH_medium_20k.stl \
-//       --points 1000000
+//   /usr/bin/time -v build/bin/bench_scan2cad --points 1000000
+//       --mesh ../shared/data/headforms/NIOSH_medium_20k.stl
 // The scan is made by the project's generator library (sample, 3 holes of 10–20 mm, noise,
 // outliers); the same code path as `generate_scan --from-mesh` then `reconstruct` and `repair`.
 #include <chrono>
@@ -10,13 +10,14 @@
 #include "data/generator/scanner_artifacts.h"
 #include "pipeline/cli.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/write_mesh.h"
 #include "scan2cad/internal/cleanup.h"
 #include "scan2cad/reconstruct.h"
 #include "scan2cad/repair.h"
 #include "scan2cad/surface_distance.h"
 
 int main(int argc, char** argv) {
-  std::string mesh_path, method_name = "auto";
+  std::string mesh_path, method_name = "auto", out_prefix;
   int points = 1000000, seed = 7;
   double noise = 0.3, outliers = 0.01, cell = -1, pdist = -1;
   scan2cad::RepairOptions ropt;
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   cli.option("-s", "--smooth", &ropt.smoothing_iterations, "repair smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &ropt.smoothing_time, "repair smoothing time step", 1e-9, 1);
   cli.option("-S", "--seed", &seed, "random seed", 0, 1 << 30);
+  cli.option("-o", "--out", &out_prefix, "write PREFIX_reconstructed.ply and PREFIX_repaired.ply (optional)");
   return pipeline::run_main(cli, argc, argv, [&] {
     using clock = std::chrono::steady_clock;
     auto secs = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
@@ -65,7 +67,13 @@ int main(int argc, char** argv) {
     const auto out = scan2cad::repair(soup, scan2cad::ScanKind::head, ropt, &rr);
     const double t_rep = secs(t0);
     // 3. Quality
+    if (!out_prefix.empty()) {
+      pipeline::write_surface_mesh(out_prefix + "_reconstructed.ply", rec);
+      pipeline::write_surface_mesh(out_prefix + "_repaired.ply", out);
+    }
     const auto d = scan2cad::surface_distance(out, reference);
+    std::printf("worst output point %.2f %.2f %.2f | worst reference point %.2f %.2f %.2f\n", d.a_worst.x(),
+                d.a_worst.y(), d.a_worst.z(), d.b_worst.x(), d.b_worst.y(), d.b_worst.z());
     std::printf("method %s points %zu used %zu outliers_removed %zu | reconstruct %.1f s repair %.1f s total %.1f s | "
                 "hausdorff %.3f mm (out->ref %.3f, ref->out %.3f) p95 %.3f mm mean %.3f mm | closed %d manifold %d "
                 "self-intersecting %d faces %zu holes_filled_in_repair %zu\n",

@@ -25,9 +25,9 @@ namespace {
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, Primitive>>;
 
-std::vector<double> distances_from_to(const SurfaceMesh& from, const SurfaceMesh& to, std::size_t n) {
+std::vector<double> distances_from_to(const SurfaceMesh& from, const SurfaceMesh& to, std::size_t n,
+                                      pipeline::Point* worst) {
   std::vector<pipeline::Point> samples;
-  CGAL::Random rng(12345);
   PMP::sample_triangle_mesh(from, std::back_inserter(samples),
                             CGAL::parameters::number_of_points_on_faces(n).random_seed(12345).do_sample_edges(false));
   for (auto v : from.vertices()) samples.push_back(from.point(v));
@@ -35,6 +35,7 @@ std::vector<double> distances_from_to(const SurfaceMesh& from, const SurfaceMesh
   tree.accelerate_distance_queries();
   std::vector<double> d(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) d[i] = std::sqrt(tree.squared_distance(samples[i]));
+  *worst = samples[std::size_t(std::max_element(d.begin(), d.end()) - d.begin())];
   return d;
 }
 
@@ -43,8 +44,8 @@ std::vector<double> distances_from_to(const SurfaceMesh& from, const SurfaceMesh
 SurfaceDistance surface_distance(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n) {
   if (a.number_of_faces() == 0 || b.number_of_faces() == 0)
     throw pipeline::bad_input("surface_distance", "a mesh has no faces");
-  std::vector<double> ab = distances_from_to(a, b, n), ba = distances_from_to(b, a, n);
   SurfaceDistance s;
+  std::vector<double> ab = distances_from_to(a, b, n, &s.a_worst), ba = distances_from_to(b, a, n, &s.b_worst);
   s.a_to_b_max_mm = *std::max_element(ab.begin(), ab.end());
   s.b_to_a_max_mm = *std::max_element(ba.begin(), ba.end());
   s.hausdorff_mm = std::max(s.a_to_b_max_mm, s.b_to_a_max_mm);

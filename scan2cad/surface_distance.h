@@ -12,6 +12,7 @@ struct SurfaceDistance {
   double b_to_a_max_mm = 0;
   double p95_mm = 0;          ///< 95th percentile of the pooled distances of both directions [mm]
   double mean_mm = 0;
+  pipeline::Point a_worst, b_worst;  ///< samples of a and of b farthest from the other mesh [mm]
 };
 
 /// Samples `samples_per_mesh` points uniformly on each mesh (PMP::sample_triangle_mesh, plus
