@@ -76,6 +76,7 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
     const int nlev = int(tissue_of_level.size());
     std::vector<Block> tissue(p.stack.size());
     std::vector<LayerVolume> vols(p.stack.size());
+    auto full_depth = [&](const Tri& t) { return c.scale[t[0]] >= 0.999 && c.scale[t[1]] >= 0.999 && c.scale[t[2]] >= 0.999; };
     double cum = 0;
     for (std::size_t j = 0; j < p.stack.size(); ++j) {
       tissue[j] = Block{group_name(p.name, p.stack[j].first), 3, 6, {}};
@@ -89,9 +90,13 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
           q[v] = in.nodes[t[v]] + dmid * c.dir[t[v]];
           s[v] = in.nodes[t[v]];
         }
-        vols[j].mid_area_volume += 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).norm() * p.stack[j].second;
-        vols[j].skin_area_volume += 0.5 * (s[1] - s[0]).cross(s[2] - s[0]).norm() * p.stack[j].second;
+        const double mid = 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).norm() * p.stack[j].second;
+        const double skin_a = 0.5 * (s[1] - s[0]).cross(s[2] - s[0]).norm() * p.stack[j].second;
+        vols[j].mid_area_volume += mid;
+        vols[j].skin_area_volume += skin_a;
+        if (full_depth(t)) vols[j].full_depth_mid_area_volume += mid, vols[j].full_depth_area_fraction += skin_a;
       }
+      vols[j].full_depth_area_fraction /= std::max(vols[j].skin_area_volume, 1e-300);
     }
     Block skin{p.name + "_skin_surface", 2, 3, {}}, bone{p.name + "_bone_inner", 2, 3, {}};
     for (const Tri& t : p.tris) {
@@ -108,6 +113,7 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
         tissue[j].conn.insert(tissue[j].conn.end(), ids, ids + 6);
         const double vol = wedge_volume(w);
         vols[j].volume += vol;
+        if (full_depth(t)) vols[j].full_depth_volume += vol;
         vols[j].wedges++;
         r.min_volume = std::min(r.min_volume, vol);
         r.min_scaled_jacobian = std::min(r.min_scaled_jacobian, wedge_scaled_jacobian(w));

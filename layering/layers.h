@@ -69,6 +69,10 @@ struct LayerVolume {
   double volume = 0;           ///< Σ wedge volumes [mm³]
   double skin_area_volume = 0; ///< skin area × thickness [mm³] (ignores the shrinkage of inward offsets)
   double mid_area_volume = 0;  ///< area of the unreduced offset surface at mid-depth × thickness [mm³]
+  /// The same two sums over the triangles whose three columns kept their full depth (scale 1):
+  /// separates what the offset itself gives from what local thinning (the nose) takes away.
+  double full_depth_volume = 0, full_depth_mid_area_volume = 0;
+  double full_depth_area_fraction = 0;  ///< share of the part's skin area on full-depth triangles
 };
 
 struct LayerReport {

@@ -11,6 +11,7 @@
 //   layers --in build/cases/medium_onesize/head/surface.msh --materials data/materials.json --out layers.msh
 //   layers --in respirator/surface.msh --materials data/materials.json --kind respirator --out resp.msh
 #include <nlohmann/json.hpp>
+#include <filesystem>
 #include <sstream>
 
 #include "layering/layers.h"
@@ -49,8 +50,8 @@ int main(int argc, char** argv) {
     // 3. Layers.
     layering::LayerReport rep;
     const layering::FeModel model = layering::build_layers(surface, stacks, opt, &rep);
-    // 4. Write.
-    layering::write_fe_model(model, out);
+    // 4. Report text, then the model, then the report: if the report cannot be written the model
+    //    is removed again, so Make never sees one output without the other (both or neither).
     nlohmann::json j = {{"wedges", rep.wedges}, {"shell_triangles", rep.shell_triangles}, {"nodes", rep.nodes},
                         {"min_scaled_jacobian", rep.min_scaled_jacobian}, {"min_volume_mm3", rep.min_volume},
                         {"reduced_columns", rep.reduced_columns}, {"min_depth_scale", rep.min_depth_scale},
@@ -60,12 +61,25 @@ int main(int argc, char** argv) {
     for (const auto& v : rep.volumes) {
       j["volumes"].push_back({{"group", v.group}, {"wedges", v.wedges}, {"thickness_mm", v.thickness},
                               {"volume_mm3", v.volume}, {"skin_area_x_thickness_mm3", v.skin_area_volume},
-                              {"mid_area_x_thickness_mm3", v.mid_area_volume}});
-      std::printf("  %-22s %6zu wedges  volume %9.0f mm3  vs mid-area x t %+6.1f %%  vs skin-area x t %+6.1f %%\n",
+                              {"mid_area_x_thickness_mm3", v.mid_area_volume},
+                              {"full_depth_volume_mm3", v.full_depth_volume},
+                              {"full_depth_mid_area_x_thickness_mm3", v.full_depth_mid_area_volume},
+                              {"full_depth_area_fraction", v.full_depth_area_fraction}});
+      std::printf("  %-22s %6zu wedges  volume %9.0f mm3  vs mid-area x t %+6.1f %%  vs skin-area x t %+6.1f %%"
+                  "  full-depth part (%3.0f %% of area) vs mid-area x t %+6.1f %%\n",
                   v.group.c_str(), v.wedges, v.volume, 100 * (v.volume / v.mid_area_volume - 1),
-                  100 * (v.volume / v.skin_area_volume - 1));
+                  100 * (v.volume / v.skin_area_volume - 1), 100 * v.full_depth_area_fraction,
+                  100 * (v.full_depth_volume / std::max(v.full_depth_mid_area_volume, 1e-300) - 1));
     }
-    if (!report_path.empty()) pipeline::write_text_atomic(report_path, j.dump(2) + "\n");
+    layering::write_fe_model(model, out);
+    if (!report_path.empty()) {
+      try {
+        pipeline::write_text_atomic(report_path, j.dump(2) + "\n");
+      } catch (...) {
+        std::filesystem::remove(out);
+        throw;
+      }
+    }
     return 0;
   });
 }

@@ -15,6 +15,9 @@
 namespace layering::internal {
 namespace {
 
+// Smallest cosine between a column and the inward normal of any incident skin triangle (~50°).
+constexpr double kMinColumnCos = 0.65;
+
 Eigen::Vector3d tri_normal(const std::vector<Eigen::Vector3d>& x, const Tri& t) {  // area-weighted (×2)
   return (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
 }
@@ -116,9 +119,25 @@ Columns make_columns(Input& in, const LayerOptions& opt) {
     }
     c.dir = next;
   }
-  // Never lean more than ~60° from the raw vertex normal (keeps corner Jacobians healthy).
-  for (int i : c.skin)
+  // Never lean more than ~60° from the raw vertex normal, nor more than ~50° from the inward normal
+  // of any incident skin triangle: the Jacobian at a skin corner of a wedge is set by the triangle
+  // and the column DIRECTIONS only, not by the depth, so a leaning column there cannot be fixed by
+  // thinning (that is how columns used to be thinned to 0.2 % of their depth in the nose).
+  std::vector<std::vector<Eigen::Vector3d>> incident_inward(n);
+  for (const PartTris& p : in.parts)
+    for (const Tri& t : p.tris) {
+      const Eigen::Vector3d nin = -tri_normal(x, t).normalized();
+      for (int v : t) incident_inward[v].push_back(nin);
+    }
+  auto min_cos = [&](int i) {
+    double m = 1;
+    for (const auto& nt : incident_inward[i]) m = std::min(m, c.dir[i].dot(nt));
+    return m;
+  };
+  for (int i : c.skin) {
     for (int k = 0; k < 10 && c.dir[i].dot(raw[i]) < 0.5; ++k) c.dir[i] = (c.dir[i] + raw[i]).normalized();
+    for (int k = 0; k < 20 && min_cos(i) < kMinColumnCos; ++k) c.dir[i] = (c.dir[i] + 0.25 * raw[i]).normalized();
+  }
   // 4. The common depth partition: union of all interfaces and sub-layer levels.
   std::set<double> lv{0.0};
   for (const PartTris& p : in.parts) {
@@ -156,6 +175,22 @@ Columns make_columns(Input& in, const LayerOptions& opt) {
     const int i = c.skin[q];
     const double depth = c.levels[c.max_level[i]];
     if (std::isfinite(hit[q]) && depth > 0) c.scale[i] = std::min(1.0, opt.ray_fraction * hit[q] / depth);
+  }
+  // 6. Depth caps where columns converge (convex places: the nose, the chin's rim): two neighbouring
+  //    columns i, j whose lines approach each other would cross at some depth; cap both where the
+  //    edge between them has shrunk to half its skin length, so the deep triangles keep their
+  //    shape. Closed form (|Δp + t·Δd|² = ¼|Δp|², smallest root) instead of blind thinning.
+  for (int i : c.skin) {
+    const double depth_i = c.levels[c.max_level[i]];
+    if (depth_i <= 0) continue;
+    for (int j : nbr[i]) {
+      const Eigen::Vector3d dp = x[j] - x[i], dd = c.dir[j] - c.dir[i];
+      const double a = dd.squaredNorm(), b = 2 * dp.dot(dd), cc = 0.75 * dp.squaredNorm();
+      const double disc = b * b - 4 * a * cc;
+      if (b >= 0 || a <= 0 || disc < 0) continue;  // diverging or never shrinking to half
+      const double t_half = (-b - std::sqrt(disc)) / (2 * a);
+      c.scale[i] = std::min(c.scale[i], t_half / depth_i);
+    }
   }
   limit_gradient(nbr, c.skin, c.scale);
   return c;
@@ -223,12 +258,27 @@ void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline:
       if (bad.empty()) return;
     }
     if (progress) progress->step("fix pass " + std::to_string(iter + 1) + ": " + std::to_string(bad.size()) + " " + what);
+    // Two causes, two fixes. If the wedge's skin triangle with its column directions (depth-free:
+    // a 0.1 mm prism) is already below the threshold, the columns lean too far: turn them toward
+    // the triangle's normal and keep the depth. Otherwise the deep part is squeezed: thin locally.
     std::set<int> cols;
-    for (int e : bad)
-      for (int v : owner[e].first) {
-        if (cols.insert(v).second) c.scale[v] *= 0.85;
-        c.dir[v] = (c.dir[v] + 0.2 * owner[e].second).normalized();
+    for (int e : bad) {
+      const Tri& t = owner[e].first;
+      Eigen::Vector3d prism[6];
+      for (int v = 0; v < 3; ++v) {
+        prism[v] = x[t[v]] + 0.1 * c.dir[t[v]];
+        prism[v + 3] = x[t[v]];
       }
+      const bool leaning = wedge_scaled_jacobian(prism) < opt.min_scaled_jacobian + 0.02;
+      for (int v : t) {
+        if (leaning) {
+          c.dir[v] = (c.dir[v] + 0.5 * owner[e].second).normalized();
+        } else {
+          if (cols.insert(v).second) c.scale[v] *= 0.85;
+          c.dir[v] = (c.dir[v] + 0.2 * owner[e].second).normalized();
+        }
+      }
+    }
     limit_gradient(nbr, c.skin, c.scale);
   }
   throw pipeline::algorithm_failed("layers", "wedges still inverted, distorted or intersecting after " +
