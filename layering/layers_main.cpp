@@ -34,8 +34,7 @@ int main(int argc, char** argv) {
       .option("-j", "--min-jacobian", &opt.min_scaled_jacobian, "minimum scaled Jacobian of every wedge", 0.01, 0.9)
       .option("-r", "--report", &report_path, "optional JSON report (counts, quality, volumes)");
   return pipeline::run_main(cli, argc, argv, [&] {
-    // 1. Options.
-    pipeline::log("layers", cli.resolved());
+    // 1. Options (run_main has logged them).
     opt.kind = kind;
     std::stringstream ss(per_tissue);
     for (std::string item; std::getline(ss, item, ',');) {

@@ -34,7 +34,6 @@ int main(int argc, char** argv) {
       .option("-b", "--bridge-offset-mm", &opt.bridge_offset_mm, "rim top below the sellion [mm]", -30, 60)
       .option("-t", "--strap-thickness-mm", &strap_t, "strap shell thickness [mm]", 0.1, 5);
   return pipeline::run_main(cli, argc, argv, [&] {
-    pipeline::log("assemble", cli.resolved());
     // 1. Load.
     const auto h = layering::read_fe_model(head);
     const auto r = layering::read_fe_model(resp);

@@ -23,7 +23,6 @@ int main(int argc, char** argv) {
       .option("-t", "--thickness-mm", &opt.thickness_mm, "strap thickness [mm]", 0.1, 5)
       .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20);
   return pipeline::run_main(cli, argc, argv, [&] {
-    pipeline::log("straps", cli.resolved());
     // 1. Load.
     const auto h = layering::read_fe_model(head);
     const auto lm = meshing::read_landmarks(landmarks);
