@@ -1,10 +1,13 @@
-// make_straps: strap centre lines follow the head outline in the plane through the attachment
-// points and a point on the back of the head (hand-written: a planar path on a surface; the ray
-// casts and distances are CGAL's AABB tree).
+// make_straps: strap centre lines follow the convex outline of the head in the slab of the strap
+// plane through the attachment points and a point on the back of the head (hand-written: a 2-D
+// hull of a slab of triangles, offset by a disc; distances and the crossing check use CGAL).
 #include "meshing/straps.h"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/convex_hull_2.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -18,6 +21,7 @@ namespace {
 
 using layering::Block;
 using layering::FeModel;
+using Point2 = CGAL::Exact_predicates_inexact_constructions_kernel::Point_2;
 
 struct Attach {
   Eigen::Vector3d left, right;
@@ -45,7 +49,7 @@ void attachments(const FeModel& resp, const Eigen::Vector3d& shift, Attach* top,
   *bottom = {pick(ymid - q, 1), pick(ymid - q, -1)};
 }
 
-double lay_strap(const FeModel& head, const internal::TriangleTree& tree, const Attach& a, double back_y,
+double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& skin, const Attach& a, double back_y,
                  const StrapOptions& opt, const std::string& name, FeModel* out) {
   // Point on the back of the head (sagittal plane, height back_y): the rear-most skin node there.
   Eigen::Vector3d back(0, back_y, 1e300);
@@ -62,35 +66,90 @@ double lay_strap(const FeModel& head, const internal::TriangleTree& tree, const 
   double tl = angle(a.left), tr = angle(a.right);
   if (tl > M_PI / 2) tl -= 2 * M_PI;
   if (tr < M_PI / 2) tr += 2 * M_PI;
-  // Outline from the left attachment over the back to the right one, lifted off the skin.
+  // Outline of the head in the SLAB the band occupies (|distance to the strap plane| <= width/2 + 1
+  // mm), projected onto the plane: every skin triangle cut by the slab contributes the corners of
+  // its part inside the slab (its vertices inside, its edges' crossings of the slab faces), so the
+  // convex hull of these points contains the projection of all skin within the slab. A strap
+  // planar section alone missed the skin beside the centre line behind the ears and the band's
+  // edges cut it there. The hull is of the WHOLE slab (all around o), taken by CGAL: a scan over
+  // only the angles between the attachments kept its first and last points even when they were
+  // inner skin (cheek under the ear), and the band started inside the head (-1.7 mm, 320 mm strap).
+  const double half_slab = 0.5 * opt.width_mm + 1.0;
+  std::vector<Point2> pts;
+  for (const auto& tri : skin) {
+    double h[3];
+    for (int v = 0; v < 3; ++v) h[v] = (head.nodes[tri[v]] - o).dot(nrm);
+    for (int v = 0; v < 3; ++v) {
+      const Eigen::Vector3d& p = head.nodes[tri[v]];
+      const Eigen::Vector3d& q = head.nodes[tri[(v + 1) % 3]];
+      const double hp = h[v], hq = h[(v + 1) % 3];
+      auto add_point = [&](const Eigen::Vector3d& x) { pts.emplace_back((x - o).dot(u), (x - o).dot(w)); };
+      if (std::abs(hp) <= half_slab) add_point(p);
+      for (double face : {-half_slab, half_slab})
+        if ((hp - face) * (hq - face) < 0) add_point(p + (q - p) * ((face - hp) / (hq - hp)));
+    }
+  }
+  if (pts.size() < 10) throw pipeline::bad_input("head", name + ": the strap plane misses the head");
+  std::vector<Point2> hull_pts;
+  CGAL::convex_hull_2(pts.begin(), pts.end(), std::back_inserter(hull_pts));  // counter-clockwise
+  const int nh = int(hull_pts.size());
+  std::vector<Eigen::Vector2d> hull_ccw(nh);
+  for (int i = 0; i < nh; ++i) hull_ccw[i] = {hull_pts[i].x(), hull_pts[i].y()};
+  // Where the ray from o at angle t leaves the hull: (edge index, point). o is inside the head's
+  // section, hence inside the hull, so exactly one edge is hit.
+  auto ray_exit = [&](double t, Eigen::Vector2d* hit) {
+    const Eigen::Vector2d d(std::cos(t), std::sin(t));
+    for (int i = 0; i < nh; ++i) {
+      const Eigen::Vector2d a = hull_ccw[i], e = hull_ccw[(i + 1) % nh] - a;
+      const double den = d.x() * e.y() - d.y() * e.x();  // solve r d = a + f e
+      if (std::abs(den) < 1e-12) continue;
+      const double r = (a.x() * e.y() - a.y() * e.x()) / den, f = (a.x() * d.y() - a.y() * d.x()) / den;
+      if (r > 0 && f >= 0 && f <= 1) {
+        *hit = r * d;
+        return i;
+      }
+    }
+    throw pipeline::algorithm_failed("straps", name + ": strap centre is outside the head's section");
+  };
+  // Chain from the left attachment's ray over the back to the right one's: angles increase from tl
+  // to tr, i.e. counter-clockwise, the hull's own order.
+  Eigen::Vector2d start, end;
+  const int i0 = ray_exit(tl, &start), i1 = ray_exit(tr, &end);
+  std::vector<Eigen::Vector2d> hull{start};
+  for (int i = (i0 + 1) % nh;; i = (i + 1) % nh) {
+    if ((hull_ccw[i] - hull.back()).norm() > 1e-9) hull.push_back(hull_ccw[i]);
+    if (i == i1) break;
+  }
+  if ((end - hull.back()).norm() > 1e-9) hull.push_back(end);
+  if (hull.size() < 2) throw pipeline::algorithm_failed("straps", name + ": empty outline between the attachments");
+  // Offset the chain outward by `lift` (Minkowski sum with a disc: shifted segments joined by arcs,
+  // no self-intersection on a convex chain), sampled every ~1 mm, back in 3D.
+  std::vector<Eigen::Vector2d> off;
+  auto outward = [&](std::size_t i) {  // of segment i → i+1: right of the direction of travel
+    const Eigen::Vector2d e = (hull[i + 1] - hull[i]).normalized();
+    return Eigen::Vector2d(e.y(), -e.x());
+  };
+  for (std::size_t i = 0; i + 1 < hull.size(); ++i) {
+    const Eigen::Vector2d nv = outward(i);
+    if (i > 0) {  // round join at hull[i] from the previous segment's normal to this one's
+      const Eigen::Vector2d np = outward(i - 1);
+      const double a0 = std::atan2(np.y(), np.x());
+      double a1 = std::atan2(nv.y(), nv.x());
+      while (a1 < a0) a1 += 2 * M_PI;  // a convex chain turns left: its normals turn counter-clockwise
+      while (a1 > a0 + M_PI) a1 -= 2 * M_PI;
+      const int m = std::max(1, int(std::ceil(std::abs(a1 - a0) * lift / 1.0)));
+      for (int j = 0; j < m; ++j) {
+        const double a = a0 + (a1 - a0) * j / m;
+        off.push_back(hull[i] + lift * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      }
+    }
+    const Eigen::Vector2d a = hull[i] + lift * nv, b = hull[i + 1] + lift * nv;
+    const int m = std::max(1, int(std::ceil((b - a).norm() / 1.0)));
+    for (int j = 0; j < m; ++j) off.push_back(a + (b - a) * (double(j) / m));
+    if (i + 2 == hull.size()) off.push_back(b);
+  }
   std::vector<Eigen::Vector3d> path;
-  for (double t = tl; t <= tr; t += M_PI / 720) {
-    const Eigen::Vector3d d = std::cos(t) * u + std::sin(t) * w;
-    const double r = tree.farthest_hit(o, d);
-    if (r > 0) path.push_back(o + (r + lift) * d);
-  }
-  if (path.size() < 10) throw pipeline::bad_input("head", name + ": the strap plane misses the head");
-  // A taut strap bridges the concave places of the outline (ears, the nape): keep its convex
-  // chain (Graham scan; the outline is star-shaped about o, points in increasing angle t, i.e.
-  // counter-clockwise about nrm = u × w, so a convex corner turns left), then
-  // resample the straight spans every 1 mm. Folding the band into hollows made it cross itself.
-  {
-    auto cross2 = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& q) {
-      return ((b - a).cross(q - b)).dot(nrm);
-    };
-    std::vector<Eigen::Vector3d> hull;
-    for (const auto& q : path) {
-      while (hull.size() >= 2 && cross2(hull[hull.size() - 2], hull.back(), q) <= 0) hull.pop_back();
-      hull.push_back(q);
-    }
-    std::vector<Eigen::Vector3d> dense;
-    for (std::size_t i = 0; i + 1 < hull.size(); ++i) {
-      const int m = std::max(1, int(std::ceil((hull[i + 1] - hull[i]).norm() / 1.0)));
-      for (int j = 0; j < m; ++j) dense.push_back(hull[i] + (hull[i + 1] - hull[i]) * (double(j) / m));
-    }
-    dense.push_back(hull.back());
-    path = dense;
-  }
+  for (const auto& q : off) path.push_back(o + q.x() * u + q.y() * w);
   std::vector<double> s(path.size(), 0.0);
   for (std::size_t i = 1; i < path.size(); ++i) s[i] = s[i - 1] + (path[i] - path[i - 1]).norm();
   std::size_t ib = 0;
@@ -108,24 +167,12 @@ double lay_strap(const FeModel& head, const internal::TriangleTree& tree, const 
     while (k + 2 < s.size() && s[k + 1] < si) ++k;
     const double f = (si - s[k]) / std::max(1e-12, s[k + 1] - s[k]);
     const Eigen::Vector3d c = path[k] + f * (path[k + 1] - path[k]);
-    // Across the band: in the skin's tangent plane (normal of the closest skin point × the strap
-    // direction), so where the strap plane cuts the surface obliquely the band lies on the skin
-    // instead of digging one edge into it (pushing such edges out folded the band).
-    Eigen::Vector3d cp, nn;
-    tree.signed_distance(c, &cp, &nn);
-    Eigen::Vector3d across = nn.cross(path[k + 1] - path[k]);
-    if (across.norm() < 1e-9 * (path[k + 1] - path[k]).norm() || !across.allFinite()) across = nrm;
-    across.normalize();
-    if (across.dot(nrm) < 0) across = -across;
+    // Across the band: the strap plane's normal, so the whole band stays inside the slab whose
+    // skin the offset hull clears by `lift` (it stands off where the head slopes across the plane;
+    // stage I's wrapping lays it down).
+    const Eigen::Vector3d across = nrm;
     for (int j = -1; j <= 1; ++j) out->nodes.push_back(c + j * 0.5 * opt.width_mm * across);
   }
-  // Push nodes that came closer than the lift (curvature across the width) out along the normal.
-  for (int pass = 0; pass < 4; ++pass)
-    for (std::size_t i = base; i < out->nodes.size(); ++i) {
-      Eigen::Vector3d cp, nn;
-      const double d = tree.signed_distance(out->nodes[i], &cp, &nn);
-      if (d < lift) out->nodes[i] = cp + lift * (d < 0 ? -(out->nodes[i] - cp).normalized() : (out->nodes[i] - cp).normalized());
-    }
   Block band{name, 2, 4, {}};
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < 2; ++j) {
@@ -155,7 +202,8 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
   const Eigen::Vector3d shift = place_respirator(head, lm, resp, opt.place, nullptr);
   Attach top, bottom;
   attachments(resp, shift, &top, &bottom);
-  internal::TriangleTree tree(head.nodes, head_surface(head));
+  const std::vector<std::array<int, 3>> skin = head_surface(head);
+  internal::TriangleTree tree(head.nodes, skin);
   FeModel out;
   StrapReport r;
   // The top strap passes ABOVE the ears: if the tragia are known, raise its back point until the
@@ -170,9 +218,9 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
     const double f = (a.z() - tr.z()) / std::max(1e-9, a.z() - zb);  // fraction of the way to the back
     if (f > 0.05 && f < 1) top_y = std::max(top_y, (tr.y() + 35 - (1 - f) * a.y()) / f);
   }
-  r.top_length = lay_strap(head, tree, top, top_y, opt, "strap_top", &out);
+  r.top_length = lay_strap(head, skin, top, top_y, opt, "strap_top", &out);
   const int bottom_base = int(out.nodes.size());
-  r.bottom_length = lay_strap(head, tree, bottom, lm.at("menton").y() - opt.bottom_below_menton_mm, opt, "strap_bottom", &out);
+  r.bottom_length = lay_strap(head, skin, bottom, lm.at("menton").y() - opt.bottom_below_menton_mm, opt, "strap_bottom", &out);
   // Detect and fix: a quad can still cut through a thin skin feature (ear rim) between its nodes,
   // which are all off the skin. Push the nodes of every crossing strap face 1 mm further out along
   // the direction from their closest skin point, until no strap face crosses the skin.
@@ -221,7 +269,10 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
   for (const Block& b : out.blocks)
     if (b.dim == 2) {
       r.quads += b.size();
-      for (int v : b.conn) r.min_gap = std::min(r.min_gap, tree.signed_distance(out.nodes[v]));
+      for (int v : b.conn) {
+        const double d = tree.signed_distance(out.nodes[v]);
+        if (d < r.min_gap) r.min_gap = d, r.min_gap_at = out.nodes[v];
+      }
     }
   if (report) *report = r;
   return out;

@@ -29,6 +29,7 @@ struct StrapOptions {
 struct StrapReport {
   double top_length = 0, bottom_length = 0;  ///< measured centre-line lengths [mm]
   double min_gap = 0;                        ///< minimum signed distance of any strap node to the skin [mm]
+  Eigen::Vector3d min_gap_at = Eigen::Vector3d::Zero();  ///< the strap node where min_gap is measured [mm]
   std::size_t quads = 0;
 };
 

@@ -65,8 +65,9 @@ TEST(make_straps, DISABLED_straps_have_requested_length_and_stay_off_the_skin) {
     o.length_mm = len;
     meshing::StrapReport rep;
     const auto st = meshing::make_straps(s.head, s.lm, s.resp, o, &rep);
-    std::printf("straps %g mm: top %.1f, bottom %.1f mm, %zu quads, min gap %.2f mm\n", len, rep.top_length,
-                rep.bottom_length, rep.quads, rep.min_gap);
+    std::printf("straps %g mm: top %.1f, bottom %.1f mm, %zu quads, min gap %.2f mm at (%.1f, %.1f, %.1f)\n", len,
+                rep.top_length, rep.bottom_length, rep.quads, rep.min_gap, rep.min_gap_at.x(), rep.min_gap_at.y(),
+                rep.min_gap_at.z());
     // 2 %: pushing nodes off the skin where the head curves across the band lengthens the line slightly.
     EXPECT_NEAR(rep.top_length, len, 0.02 * len);
     EXPECT_NEAR(rep.bottom_length, len, 0.02 * len);
