@@ -12,6 +12,20 @@ namespace solve::internal {
 namespace {
 
 // ---------- hot kernels ----------
+// Stiffness hourglass control of one element, shared by solids and membranes: for each γ-vector
+// g_h (orthogonal to the affine fields) the mode amplitude q_h = Σ_a g_ha x_a, force
+// f_a −= k g_ha q_h. g: NH×NN γ-vectors of the element, k its hourglass stiffness.
+template <int NN, int NH>
+inline void add_hourglass_forces(const double* g, double k, const double (&xe)[NN][3], double* f) {
+  for (int h = 0; h < NH; ++h) {
+    double q[3] = {0, 0, 0};
+    for (int a = 0; a < NN; ++a)
+      for (int i = 0; i < 3; ++i) q[i] += g[h * NN + a] * xe[a][i];
+    for (int a = 0; a < NN; ++a)
+      for (int i = 0; i < 3; ++i) f[3 * a + i] -= k * g[h * NN + a] * q[i];
+  }
+}
+
 template <int NN, int NH>
 int solid_forces(const ElementBlock& blk, const double* x, double* fe) {
   const long ne = long(blk.size());
@@ -59,17 +73,7 @@ int solid_forces(const ElementBlock& blk, const double* x, double* fe) {
     for (int a = 0; a < NN; ++a)
       for (int i = 0; i < 3; ++i)
         f[3 * a + i] = -V * (P[i][0] * b[3 * a] + P[i][1] * b[3 * a + 1] + P[i][2] * b[3 * a + 2]);
-    if (NH > 0) {
-      const double* g = G + std::size_t(e) * NH * NN;
-      const double k = blk.khg[e];
-      for (int h = 0; h < NH; ++h) {
-        double q[3] = {0, 0, 0};
-        for (int a = 0; a < NN; ++a)
-          for (int i = 0; i < 3; ++i) q[i] += g[h * NN + a] * xe[a][i];
-        for (int a = 0; a < NN; ++a)
-          for (int i = 0; i < 3; ++i) f[3 * a + i] -= k * g[h * NN + a] * q[i];
-      }
-    }
+    add_hourglass_forces<NN, NH>(G + std::size_t(e) * NH * NN, blk.khg[e], xe, f);
   }
   return inverted;
 }
@@ -101,17 +105,7 @@ int membrane_forces(const ElementBlock& blk, const double* x, double* fe) {
       const double c1 = S11 * b[2 * a] + S12 * b[2 * a + 1], c2 = S12 * b[2 * a] + S22 * b[2 * a + 1];
       for (int i = 0; i < 3; ++i) f[3 * a + i] = -V * (g1[i] * c1 + g2[i] * c2);
     }
-    if (NH > 0) {
-      const double* g = blk.gamma.data() + std::size_t(e) * NH * NN;
-      const double k = blk.khg[e];
-      for (int h = 0; h < NH; ++h) {
-        double q[3] = {0, 0, 0};
-        for (int a = 0; a < NN; ++a)
-          for (int i = 0; i < 3; ++i) q[i] += g[h * NN + a] * xe[a][i];
-        for (int a = 0; a < NN; ++a)
-          for (int i = 0; i < 3; ++i) f[3 * a + i] -= k * g[h * NN + a] * q[i];
-      }
-    }
+    add_hourglass_forces<NN, NH>(blk.gamma.data() + std::size_t(e) * NH * NN, blk.khg[e], xe, f);
   }
   return inverted;
 }
