@@ -3,7 +3,8 @@
 /// surface, as a gmsh model with one named 2D physical group per part.
 ///
 /// The triangles come from scan2cad::remesh_parts (CGAL isotropic remeshing with the part cuts
-/// constrained) at the layering size, the back of the head coarser; gmsh then holds them as
+/// constrained) at the layering size, the back of the head coarser, the worst triangles then
+/// improved (scan2cad::improve_triangles: flips, angle smoothing); gmsh then holds them as
 /// discrete surfaces sharing their boundary nodes and curves (createTopology) and rates them
 /// (getElementQualities "gamma"). gmsh's own re-meshing of parametrized parts is not used: it
 /// fails on the back of the head (see scan2cad/fit.h).

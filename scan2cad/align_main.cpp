@@ -29,9 +29,8 @@ int main(int argc, char** argv) {
   cli.option("-t", "--transform", &transform_path, "4x4 transform (JSON)", pipeline::required);
   cli.option("-s", "--samples", &samples, "surface samples for the symmetry search (default 4000)", 500, 100000);
   return pipeline::run_main(cli, argc, argv, [&] {
-    // 1. Options
+    // 1. Options (run_main has logged them)
     const auto kind = scan2cad::parse_align_kind(kind_name);
-    pipeline::log("align", cli.resolved());
     pipeline::Progress progress("align", 0);
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)
     progress.step("loading " + in);

@@ -3,6 +3,7 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Polygon_mesh_processing/angle_and_area_smoothing.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <gmsh.h>
 
@@ -92,6 +93,66 @@ SurfaceMesh remesh_parts(const SurfaceMesh& input, const std::string& kind, doub
   }
   mesh.remove_property_map(constrained);
   return mesh;
+}
+
+double triangle_gamma(const pipeline::Point& p0, const pipeline::Point& p1, const pipeline::Point& p2) {
+  const double a = std::sqrt(CGAL::squared_distance(p1, p2)), b = std::sqrt(CGAL::squared_distance(p0, p2)),
+               c = std::sqrt(CGAL::squared_distance(p0, p1)), s = (a + b + c) / 2;
+  const double area2 = s * (s - a) * (s - b) * (s - c);  // Heron, squared area
+  if (!(area2 > 0)) return 0;
+  const double area = std::sqrt(area2), r = area / s, R = a * b * c / (4 * area);
+  return 2 * r / R;
+}
+
+std::size_t improve_triangles(SurfaceMesh& mesh, int rounds) {
+  const auto part = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  auto cut = mesh.add_property_map<SurfaceMesh::Edge_index, bool>("e:improve_cut", false).first;
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge(e);
+    cut[e] = mesh.is_border(e) || part[mesh.face(h)] != part[mesh.face(mesh.opposite(h))];
+  }
+  const auto normal = [](const pipeline::Point& a, const pipeline::Point& b, const pipeline::Point& c) {
+    const pipeline::Vector n = CGAL::cross_product(b - a, c - a);
+    const double l = std::sqrt(n.squared_length());
+    return l > 0 ? n / l : n;
+  };
+  const double coplanar_cos = std::cos(20.0 * M_PI / 180.0);
+  std::size_t flipped = 0;
+  for (int round = 0; round < rounds; ++round) {
+    // Quality-driven flips, written here because CGAL's Delaunay flipper (inside
+    // angle_and_area_smoothing) runs only with the area term, which needs Ceres. Delaunay flips
+    // alone also miss the slivers along a cut: their long edge lies on the cut and cannot flip.
+    std::size_t flips_this_round = 0;
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (auto e : mesh.edges()) {
+        if (cut[e]) continue;
+        const auto h = mesh.halfedge(e), o = mesh.opposite(h);
+        const auto va = mesh.source(h), vb = mesh.target(h), vc = mesh.target(mesh.next(h)),
+                   vd = mesh.target(mesh.next(o));
+        if (vc == vd || mesh.halfedge(vc, vd) != SurfaceMesh::null_halfedge()) continue;  // edge cd exists
+        const auto &a = mesh.point(va), &b = mesh.point(vb), &c = mesh.point(vc), &d = mesh.point(vd);
+        const double before = std::min(triangle_gamma(a, b, c), triangle_gamma(b, a, d));
+        const double after = std::min(triangle_gamma(c, d, b), triangle_gamma(d, c, a));
+        if (after <= before + 1e-3) continue;
+        // Only (nearly) flat pairs: a flip across a crease would change the surface.
+        const auto n1 = normal(a, b, c), n2 = normal(b, a, d), m1 = normal(c, d, b), m2 = normal(d, c, a);
+        if (n1 * n2 < coplanar_cos || m1 * m2 < coplanar_cos || m1 * (n1 + n2) <= 0 || m2 * (n1 + n2) <= 0) continue;
+        CGAL::Euler::flip_edge(h, mesh);  // keeps both faces (same part) and the edge index
+        changed = true;
+        ++flips_this_round;
+      }
+    }
+    flipped += flips_this_round;
+    PMP::angle_and_area_smoothing(mesh.faces(), mesh,
+                                  CGAL::parameters::number_of_iterations(1)
+                                      .use_area_smoothing(false)
+                                      .use_safety_constraints(true)
+                                      .edge_is_constrained_map(cut));
+    if (round > 0 && flips_this_round == 0) break;
+  }
+  mesh.remove_property_map(cut);
+  return flipped;
 }
 
 std::vector<FitPart> build_part_model(const SurfaceMesh& mesh, const std::string& kind, bool parametrize) {

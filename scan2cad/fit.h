@@ -32,14 +32,29 @@ struct FitPart {
 ///         face is not a triangle
 void check_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind);
 
-/// Isotropic remeshing of a part-labelled triangle mesh [mm]: 3 iterations of
-/// PMP::isotropic_remeshing to `edge_mm` on every part, then (if `back_edge_mm` > 0) to
-/// `back_edge_mm` on the back_of_head part only (label 0, head meshes). Part boundaries and open
+/// Isotropic remeshing of a part-labelled triangle mesh [mm]:
+/// PMP::isotropic_remeshing to `edge_mm` on every part (3 iterations; more move the relaxed
+/// cuts further off the input), then (if `back_edge_mm` > 0) to `back_edge_mm` on the
+/// back_of_head part only (label 0, head meshes) and the face parts once more.
+/// The worst triangles are not improved here (see improve_triangles, used by surface_mesh):
+/// its smoothing would move the fitted surface off the input. Part boundaries and open
 /// borders are constrained (their edges are split/collapsed along the cut, never moved off it);
 /// every new face keeps its "f:part".
 /// @throws pipeline::Error(bad_input) as check_parts
 pipeline::SurfaceMesh remesh_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind,
                                    double edge_mm, double back_edge_mm = 0);
+
+/// Raises the worst triangles of a remeshed, part-labelled mesh: rounds of quality-driven edge
+/// flips inside each part (an edge is flipped when that raises the smaller gamma of its two
+/// triangles and the two are within 20 deg of coplanar) followed by CGAL angle smoothing of the
+/// free vertices (PMP::angle_and_area_smoothing, angle term only, moves projected back onto the
+/// surface as it was). Part cuts and borders are neither flipped nor moved.
+/// @return the number of edges flipped
+std::size_t improve_triangles(pipeline::SurfaceMesh& mesh, int rounds = 3);
+
+/// gmsh's triangle quality "gamma" = 2 r / R (inscribed over circumscribed radius; 1 for an
+/// equilateral triangle, 0 for a degenerate one).
+double triangle_gamma(const pipeline::Point& a, const pipeline::Point& b, const pipeline::Point& c);
 
 /// Builds the part-wise model in the CURRENT gmsh model (gmsh must be initialized; a model
 /// named "fitted" is added): one discrete surface and one named 2D physical group per part, nodes

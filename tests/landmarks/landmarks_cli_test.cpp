@@ -1,0 +1,108 @@
+// The landmarks program: a user's file replaces detection; bad input (missing or empty head
+// file, malformed user file) gives exit 2, one error line naming the file, and no output.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path dir = fs::temp_directory_path() / ("rf_landmarks_cli_" + std::to_string(::getpid()));
+// NIOSH medium is given in the head frame (y up, face toward +z, mm): no align needed. As a
+// merged PLY (meshio merges the STL's per-triangle vertices), as a previous stage writes it.
+std::string head_ply() {
+  fs::create_directories(dir);
+  const std::string path = (dir / "medium.ply").string();
+  const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + SHARED_DATA_DIR +
+                          "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + path +
+                          "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>/dev/null";
+  return std::system(cmd.c_str()) == 0 ? path : std::string("meshio-failed.ply");
+}
+
+int run(const std::string& args) {
+  fs::create_directories(dir);
+  const std::string cmd = std::string(BIN_DIR) + "/landmarks " + args + " 2> " + (dir / "err.txt").string();
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// stderr lines other than the options line run_main prints first.
+std::vector<std::string> error_lines() {
+  std::ifstream f(dir / "err.txt");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(f, l);)
+    if (l.rfind("landmarks: options:", 0) != 0) lines.push_back(l);
+  return lines;
+}
+
+std::string out() { return (dir / "lm.json").string(); }
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream f(p);
+  return nlohmann::json::parse(f);
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+// Exit 2, exactly one stderr line and it names `file`, no output written.
+void expect_bad_input(const std::string& args, const std::string& file) {
+  fs::remove(out());
+  EXPECT_EQ(run(args + " --out " + out()), 2) << args;
+  const auto lines = error_lines();
+  ASSERT_EQ(lines.size(), 1u) << args;
+  EXPECT_NE(lines[0].find(file), std::string::npos) << lines[0];
+  EXPECT_FALSE(fs::exists(out())) << args;
+}
+
+}  // namespace
+
+TEST(landmarks_cli, missing_or_empty_head_file_exits_2_naming_it) {
+  fs::create_directories(dir);
+  expect_bad_input("--in " + (dir / "nope.ply").string(), (dir / "nope.ply").string());
+  fs::create_directories(dir);
+  write(dir / "empty.ply", "");
+  expect_bad_input("--in " + (dir / "empty.ply").string(), (dir / "empty.ply").string());
+}
+
+TEST(landmarks_cli, malformed_user_file_exits_2_naming_it) {
+  const std::string head = head_ply();
+  const fs::path user = dir / "user.json";
+  write(user, "{\"landmarks\": {\"sellion\": ");  // truncated JSON
+  expect_bad_input("--in " + head + " --user " + user.string(), user.string());
+  write(user, "{\"landmarks\": {\"sellion\": {\"position\": [0, 1]}}}");  // 2 coordinates
+  expect_bad_input("--in " + head + " --user " + user.string(), user.string());
+  expect_bad_input("--in " + head + " --user " + (dir / "absent.json").string(), (dir / "absent.json").string());
+}
+
+TEST(landmarks_cli, user_file_replaces_detection) {
+  const std::string head = head_ply();
+  // Detect, move every point 0.5 mm along the face normal-ish +z, hand it back as the user's.
+  ASSERT_EQ(run("--in " + head + " --out " + out()), 0);
+  nlohmann::json detected = read_json(out());
+  EXPECT_EQ(detected["source"], "detected");
+  nlohmann::json user = detected;
+  user.erase("source");
+  user.erase("measures_mm");
+  for (auto& [name, p] : user["landmarks"].items()) p["position"][2] = p["position"][2].get<double>() + 0.5;
+  write(dir / "user.json", user.dump());
+  fs::remove(out());
+  ASSERT_EQ(run("--in " + head + " --user " + (dir / "user.json").string() + " --out " + out()), 0);
+  const nlohmann::json got = read_json(out());
+  EXPECT_EQ(got["source"], "user");
+  for (auto& [name, p] : user["landmarks"].items())
+    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(got["landmarks"][name]["position"][k].get<double>(), p["position"][k].get<double>()) << name;
+  // A user's point far from the surface (wrong frame) is bad input naming the file.
+  user["landmarks"]["menton"]["position"][1] = -500.0;
+  write(dir / "far.json", user.dump());
+  expect_bad_input("--in " + head + " --user " + (dir / "far.json").string(), (dir / "far.json").string());
+  fs::remove_all(dir);
+}
