@@ -2,10 +2,15 @@
 
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -202,27 +207,103 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
   return stats;
 }
 
-PartStats segment_respirator(SurfaceMesh& mesh) {
-  // 1. Cavity centre: centroid of the vertices (inside the concave side of a cup-like shell).
-  double c[3] = {0, 0, 0};
-  for (auto v : mesh.vertices()) {
-    c[0] += mesh.point(v).x(), c[1] += mesh.point(v).y(), c[2] += mesh.point(v).z();
-  }
-  for (double& x : c) x /= std::max<std::size_t>(1, mesh.number_of_vertices());
-  // 2. Inner faces: outward normal pointing toward the face side (−z) and into the cavity.
-  Labels label = mesh.add_property_map<FaceIndex, int>(pipeline::part_property, 1).first;
+PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>>>;
+  if (mesh.number_of_faces() == 0) throw pipeline::bad_input("respirator", "no faces");
+  mesh.collect_garbage();
+  // 0. A closed shell is oriented outward (normals out of the material) so that "toward the
+  //    face" means the same thing on every sheet.
+  if (CGAL::is_closed(mesh)) PMP::orient_to_bound_a_volume(mesh);
+  const std::size_t nf = mesh.number_of_faces();
+  std::vector<pipeline::Vector> normal(nf);
+  std::vector<pipeline::Point> centre(nf);
   for (auto f : mesh.faces()) {
-    const auto n = PMP::compute_face_normal(f, mesh);
+    normal[f] = PMP::compute_face_normal(f, mesh);
     const auto h = mesh.halfedge(f);
-    const auto& p = mesh.point(mesh.target(h));
-    const double dx = c[0] - p.x(), dy = c[1] - p.y();
-    // Toward the cavity axis (lateral part) and toward −z: both favour the inner surface; the
-    // rim (normal ≈ −z) counts as inner.
-    const double lateral = (n.x() * dx + n.y() * dy) / std::max(1e-9, std::hypot(dx, dy));
-    if (-n.z() + 0.5 * lateral > 0) label[f] = respirator_inner;
+    centre[f] = CGAL::centroid(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h))));
+  }
+  // 1. Cavity axis: through the centroid of the vertices, along z (the face side is -z).
+  double c[2] = {0, 0};
+  for (auto v : mesh.vertices()) c[0] += mesh.point(v).x(), c[1] += mesh.point(v).y();
+  for (double& x : c) x /= double(mesh.number_of_vertices());
+  // How much a face looks toward the face side: toward -z, and (where the wall is nearly parallel
+  // to z) toward the cavity axis. On the inner sheet it is positive, on the outer one negative.
+  std::vector<double> score(nf);
+  for (auto f : mesh.faces()) {
+    const auto& n = normal[f];
+    const double dx = c[0] - centre[f].x(), dy = c[1] - centre[f].y();
+    score[f] = -n.z() + 0.5 * (n.x() * dx + n.y() * dy) / std::max(1e-9, std::hypot(dx, dy));
+  }
+  // 2. Wall partner of each face: the first face hit by a ray from its centre into the material
+  //    (-normal). On the two sheets of a thin shell it is the opposite sheet at about the wall
+  //    thickness; on the rim strip joining them (and on an open sheet) the ray runs along the
+  //    wall or escapes, so no partner is found near. (Hand-written pairing: CGAL has no thin-shell
+  //    sheet classification; the ray queries are CGAL's AABB tree.)
+  Tree tree(faces(mesh).first, faces(mesh).second, mesh);
+  tree.accelerate_distance_queries();
+  std::vector<double> hit_mm(nf, std::numeric_limits<double>::infinity());
+  std::vector<FaceIndex> partner(nf, SurfaceMesh::null_face());
+  for (auto f : mesh.faces()) {
+    std::set<FaceIndex> near{f};  // the face and its vertex neighbours (grazing hits at distance ~0)
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+      for (auto g : CGAL::faces_around_target(mesh.halfedge(v), mesh)) near.insert(g);
+    const pipeline::Kernel::Ray_3 ray(centre[f], -normal[f]);
+    const auto hit = tree.first_intersection(ray, [&](FaceIndex g) { return near.count(g) > 0; });
+    if (!hit) continue;
+    if (const pipeline::Point* p = boost::get<pipeline::Point>(&hit->first)) {
+      hit_mm[f] = std::sqrt(CGAL::squared_distance(*p, centre[f]));
+      partner[f] = hit->second;
+    }
+  }
+  // Wall thickness: median partner distance (most faces lie on the two sheets).
+  std::vector<double> finite;
+  for (double t : hit_mm)
+    if (std::isfinite(t)) finite.push_back(t);
+  double wall_mm = 0;
+  if (!finite.empty()) {
+    std::nth_element(finite.begin(), finite.begin() + finite.size() / 2, finite.end());
+    wall_mm = finite[finite.size() / 2];
+  }
+  // Paired: the hit face faces the other way (within 45 deg of opposite; a ray along a rim strip
+  // meets the sheets at a grazing angle) and is not far beyond the typical wall (real parts vary
+  // in thickness: the Flex face seal's wall is 0.85-3 mm).
+  const double pair_limit_mm = 8 * wall_mm;
+  std::vector<char> is_paired(nf, 0);
+  std::size_t paired = 0;
+  for (auto f : mesh.faces())
+    if (hit_mm[f] <= pair_limit_mm && normal[f] * normal[partner[f]] < -0.7) is_paired[f] = 1, ++paired;
+  // A thin shell has most faces paired; otherwise the input is taken as a single open sheet.
+  const bool thin_shell = wall_mm > 0 && paired > nf / 2;
+  // 3. Inner faces: on a thin shell, the paired face that looks more toward the face side than
+  //    its partner; on a single sheet, every face (the sheet is oriented toward -z first).
+  Labels label = mesh.add_property_map<FaceIndex, int>(pipeline::part_property, 1).first;
+  if (thin_shell) {
+    for (auto f : mesh.faces())
+      if (is_paired[f] && score[f] > score[partner[f]]) label[f] = respirator_inner;
+  } else {
+    double s = 0;
+    for (auto f : mesh.faces()) s += score[f] * PMP::face_area(f, mesh);
+    if (s < 0) PMP::reverse_face_orientations(mesh);
+    for (auto f : mesh.faces()) label[f] = respirator_inner;
+  }
+  // 4. One piece: islands of either label merged into the other; then the rim made smooth:
+  //    inner faces with two edges on the rim (teeth) dropped, outer faces with two edges against
+  //    the inner face (notches) taken in.
+  merge_islands(mesh, label, {respirator_inner, 1});
+  auto inner = [&](FaceIndex f) { return f != SurfaceMesh::null_face() && label[f] == respirator_inner; };
+  for (int pass = 0; pass < 5; ++pass) {
+    std::vector<FaceIndex> flip;
+    for (auto f : mesh.faces()) {
+      int against_inner = 0;
+      for (Halfedge h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh))
+        against_inner += inner(mesh.face(mesh.opposite(h)));
+      if (inner(f) ? against_inner <= 1 : against_inner >= 2) flip.push_back(f);
+    }
+    if (flip.empty()) break;
+    for (auto f : flip) label[f] = inner(f) ? 1 : respirator_inner;
   }
   merge_islands(mesh, label, {respirator_inner, 1});
-  // 3. Drop everything but the inner face.
+  // 5. Drop everything but the inner face.
   std::vector<FaceIndex> drop;
   for (auto f : mesh.faces())
     if (label[f] != respirator_inner) drop.push_back(f);
@@ -230,6 +311,11 @@ PartStats segment_respirator(SurfaceMesh& mesh) {
   mesh.collect_garbage();
   if (mesh.number_of_faces() == 0)
     throw pipeline::algorithm_failed("segment", "no inner face found: is the respirator aligned (concave side toward -z)?");
+  if (info) {
+    info->thin_shell = thin_shell;
+    info->wall_mm = wall_mm;
+    info->paired_fraction = double(paired) / double(nf);
+  }
   return part_stats(mesh, respirator_inner);
 }
 

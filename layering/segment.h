@@ -60,16 +60,29 @@ struct PartStats {
 /// @note O(#F); about 0.1 s for 20k triangles
 std::vector<PartStats> segment_head(pipeline::SurfaceMesh& mesh, const HeadLandmarks& lm);
 
-/// Keeps the inner face (the side toward the face, −z, with its rim) of an aligned respirator
-/// shell (a closed or nearly closed thin surface): every other face is removed, the kept faces
-/// get "f:part" = respirator_inner.
+/// What segment_respirator found.
+struct RespiratorSegmentInfo {
+  bool thin_shell = false;     ///< closed (or nearly) thin shell; false: taken as one open sheet
+  double wall_mm = 0;          ///< wall thickness: median distance to the opposite sheet [mm]
+  double paired_fraction = 0;  ///< share of faces with an opposite-sheet partner
+};
+
+/// Keeps the inner face (the side toward the face, −z, bounded by its rim) of an aligned
+/// respirator: every other face is removed, the kept faces get "f:part" = respirator_inner.
 ///
-/// A face is inner when its outward normal points into the cavity of the shell, that is toward
-/// −z more than the outer surface's normals do: n·d < 0 with d the direction from the cavity
-/// centre (centroid of the vertices) to the face, both taken after projecting out nothing; then
-/// the largest connected component is kept and small islands are merged.
-/// @throws pipeline::Error(algorithm) if no inner face is found
-PartStats segment_respirator(pipeline::SurfaceMesh& mesh);
+/// Thin shell (a closed surface around a wall of a few mm, as a reconstruction or the
+/// generator's clean mesh): the shell is oriented outward; each face is paired with the opposite
+/// sheet (first hit of a ray from its centre along −normal, facing within 45° of opposite, within
+/// 8 × the median hit distance = the wall thickness); of a pair, the face that looks more toward
+/// the face side (−n·z plus
+/// half its lateral component toward the cavity axis) is inner. Faces of the strip that joins the
+/// two sheets along the edge of the cup have no near partner and are dropped, so the rim is the
+/// inner sheet's edge. If fewer than half of the faces pair, the input is one open sheet: all of
+/// it is kept, oriented toward −z. Then islands of either side are merged, and the rim is made
+/// smooth (teeth and notches one triangle deep removed).
+/// @param[out] info  optional: shell or sheet, wall thickness, paired share
+/// @throws pipeline::Error(bad_input) on an empty mesh; Error(algorithm) if no inner face is found
+PartStats segment_respirator(pipeline::SurfaceMesh& mesh, RespiratorSegmentInfo* info = nullptr);
 
 /// Topology of the faces labelled `label` in "f:part".
 /// @throws pipeline::Error(bad_input) if the mesh has no "f:part" property

@@ -39,7 +39,14 @@ int main(int argc, char** argv) {
     progress.step("segmenting " + std::to_string(mesh.number_of_faces()) + " faces");
     std::vector<layering::PartStats> stats;
     if (kind == "head") stats = layering::segment_head(mesh, lm);
-    else stats.push_back(layering::segment_respirator(mesh));
+    else {
+      layering::RespiratorSegmentInfo info;
+      stats.push_back(layering::segment_respirator(mesh, &info));
+      char line[200];
+      std::snprintf(line, sizeof line, "%s, wall %.2f mm, %.0f %% of the faces paired across the wall",
+                    info.thin_shell ? "thin shell" : "single open sheet", info.wall_mm, 100 * info.paired_fraction);
+      pipeline::log("segment", line);
+    }
     // 4. Write and summarise
     pipeline::write_surface_mesh(out, mesh);
     for (const auto& s : stats) {
