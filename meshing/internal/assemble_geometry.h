@@ -14,7 +14,9 @@ class TriangleTree {
  public:
   TriangleTree(const std::vector<Eigen::Vector3d>& nodes, const std::vector<std::array<int, 3>>& tris);
   ~TriangleTree();
-  /// Distance [mm] to the closest triangle, negative on the inner side of that triangle.
+  /// Distance [mm] to the closest triangle, negative inside: the sign is that of (q − closest) against
+  /// the angle-weighted pseudo-normal of the face, edge or vertex the closest point lies on (exact on
+  /// a consistently oriented manifold surface; *normal is the closest face's normal).
   double signed_distance(const Eigen::Vector3d& q, Eigen::Vector3d* closest = nullptr,
                          Eigen::Vector3d* normal = nullptr) const;
   double distance(const Eigen::Vector3d& q) const;

@@ -54,11 +54,10 @@ TEST(place_respirator, gap_is_3mm_measured_and_symmetric) {
   EXPECT_NEAR(shift.x(), 0.5 * (s.lm.at("sellion").x() + s.lm.at("menton").x()), 1e-6);
 }
 
-// DISABLED (issue 4, open): on a clean build of main, make_straps throws "strap nodes still on
-// faces crossing the skin" on the box-labelled NIOSH medium fixture (12-13 nodes behind the ears),
-// although it passed in the author's build directory; not yet understood. Run with
-// --gtest_also_run_disabled_tests.
-TEST(make_straps, DISABLED_straps_have_requested_length_and_stay_off_the_skin) {
+// The band is built outside the offset convex hull of the skin within its slab (1 mm wider than
+// the band on each side), so every strap node is at least min(gap + thickness/2, 1 mm) = 1 mm off
+// the skin by construction; the measured minimum checks that (signed: pseudo-normal sign).
+TEST(make_straps, straps_have_requested_length_and_stay_off_the_skin) {
   auto& s = scene();
   for (double len : {280.0, 320.0}) {
     meshing::StrapOptions o;
@@ -71,7 +70,7 @@ TEST(make_straps, DISABLED_straps_have_requested_length_and_stay_off_the_skin) {
     // 2 %: pushing nodes off the skin where the head curves across the band lengthens the line slightly.
     EXPECT_NEAR(rep.top_length, len, 0.02 * len);
     EXPECT_NEAR(rep.bottom_length, len, 0.02 * len);
-    EXPECT_GT(rep.min_gap, 0.0);
+    EXPECT_GE(rep.min_gap, 1.0 - 1e-9);
     // Top strap is high on the back of the head, bottom strap below the ears.
     const auto& top = *st.find("strap_top");
     const auto& bottom = *st.find("strap_bottom");
@@ -86,8 +85,7 @@ TEST(make_straps, DISABLED_straps_have_requested_length_and_stay_off_the_skin) {
   EXPECT_THROW(meshing::make_straps(s.head, s.lm, s.resp, too_long, nullptr), pipeline::Error);
 }
 
-// DISABLED for the same reason as make_straps above (it builds straps first).
-TEST(assemble_model, DISABLED_no_initial_penetration_and_opens_in_gmsh_and_meshio) {
+TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   auto& s = scene();
   const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
   meshing::AssembleReport rep;
