@@ -65,12 +65,27 @@ SurfaceMesh remesh_parts(const SurfaceMesh& input, const std::string& kind, doub
     }
   };
   mark();
+  // Corners of an open border (a respirator's inner face: where its rim turns sharply, > 20 deg)
+  // are kept fixed: relaxing and collapsing along the rim polyline would cut them off (1.8 mm
+  // on the real Flex face seal). Closed heads have no border, so nothing is fixed there.
+  auto corner = mesh.add_property_map<pipeline::VertexIndex, bool>("v:fit_corner", false).first;
+  for (auto h : mesh.halfedges()) {
+    if (!mesh.is_border(h)) continue;
+    const auto& a = mesh.point(mesh.source(h));
+    const auto& b = mesh.point(mesh.target(h));
+    const auto& c = mesh.point(mesh.target(mesh.next(h)));
+    const pipeline::Vector u = b - a, w = c - b;
+    const double cos_turn = (u * w) / std::sqrt(u.squared_length() * w.squared_length());
+    if (!(cos_turn > std::cos(20.0 * M_PI / 180.0))) corner[mesh.target(h)] = true;
+  }
   PMP::isotropic_remeshing(mesh.faces(), edge_mm, mesh,
                            CGAL::parameters::number_of_iterations(3)
                                .edge_is_constrained_map(constrained)
+                               .vertex_is_constrained_map(corner)
                                .face_patch_map(part)
                                .relax_constraints(true));
   mesh.collect_garbage();
+  mesh.remove_property_map(corner);
   if (kind == "head" && back_edge_mm > 0) {
     // Coarser back of head, then the face parts once more: the cut is constrained (kept) but its
     // edges may be collapsed by the back pass; the last pass re-splits them to the face size and
