@@ -3,12 +3,15 @@
 // Choice of the default for heads: Poisson. Measured (bench_scan2cad, NIOSH medium, 200k points,
 // 0.3 mm noise, 1 % outliers, three 10–20 mm holes): after repair, p95 distance 0.21 mm, mean
 // 0.08 mm, closed and manifold; it approximates rather than interpolates, so its error sits
-// below the noise, and it closes scan holes by itself. Respirator shells are open: Poisson would
-// close the rim, so they default to advancing front, which keeps open borders. Advancing front
-// and scale space were not yet measured on the heads (see README.md).
+// below the noise, and it closes scan holes by itself. Respirator scans of a whole cup are thin
+// closed shells: with the two sides separated first (orient_thin_shell) Poisson reconstructs
+// them too; advancing front on the raw cup gave a torn, self-intersecting surface (README.md).
+// Advancing front and scale space were not yet measured on the heads (see README.md).
 #include "scan2cad/reconstruct.h"
 
 #include <CGAL/Advancing_front_surface_reconstruction.h>
+#include <CGAL/Orthogonal_k_neighbor_search.h>
+#include <CGAL/Search_traits_3.h>
 #include <CGAL/IO/PLY.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -23,6 +26,7 @@
 #include <CGAL/jet_smooth_point_set.h>
 #include <CGAL/mst_orient_normals.h>
 #include <CGAL/poisson_surface_reconstruction.h>
+#include <Eigen/Eigenvalues>
 #include <CGAL/remove_outliers.h>
 
 #include <algorithm>
@@ -35,6 +39,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
+#include "pipeline/units.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 using pipeline::Point;
@@ -79,6 +84,115 @@ void orient_like_normals(SurfaceMesh& mesh, const std::vector<Point>& pts, const
   if (vote < 0) PMP::reverse_face_orientations(mesh);
 }
 
+// Denoise and remove spikes: each point is projected onto the jet (quadric) fitted to its k
+// neighbours (CGAL). A spike (a point several mm off the surface) stays near its neighbours in
+// k-NN distance, so outlier removal misses it, but its projection moves it by its height:
+// points moved by more than 4 robust standard deviations (1.4826 × median move) are removed,
+// the others keep their denoised position and their normal. Returns the number removed.
+std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k) {
+  if (pn.size() <= k) return 0;
+  std::vector<PN> smoothed = pn;
+  CGAL::jet_smooth_point_set<CGAL::Sequential_tag>(smoothed, k, CGAL::parameters::point_map(PointMap()));
+  std::vector<double> move(pn.size());
+  for (std::size_t i = 0; i < pn.size(); ++i) move[i] = std::sqrt(CGAL::squared_distance(pn[i].first, smoothed[i].first));
+  std::vector<double> sorted = move;
+  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+  const double limit = 4.0 * 1.4826 * sorted[sorted.size() / 2];
+  std::vector<PN> kept;
+  kept.reserve(pn.size());
+  for (std::size_t i = 0; i < pn.size(); ++i)
+    if (move[i] <= limit) kept.push_back({smoothed[i].first, pn[i].second});
+  const std::size_t removed = pn.size() - kept.size();
+  pn.swap(kept);
+  return removed;
+}
+
+// Normals of a thin closed shell (respirator cups: wall 1.5 mm = 2–2.5 point spacings, noise
+// 0.2 mm). A neighbourhood large enough for a stable normal reaches across the wall, so jet
+// smoothing would pull both sides onto the mid-surface, and MST orientation gives both sides
+// the SAME normal (their tangent planes are parallel; the inner side's normals then point into
+// the wall and Poisson / orientation fail). No CGAL function separates the two sides of a thin
+// wall, so it is done here:
+//  1. jet normals over both sides = normals of the mid-surface, oriented by MST (right for the
+//     mid-surface, a single sheet);
+//  2. each point's 2k neighbours, projected on that normal, form two clusters (the two sides)
+//     when the wall is thin: exact 1-D 2-means on the sorted projections; the point is on the
+//     side whose cluster it is nearer to (its own projection is 0). Clusters closer than 4
+//     pooled standard deviations (one side only in reach: thick wall, rim) leave it undecided;
+//  3. the shell's outward normal is +normal on the upper side and −normal on the lower one;
+//     undecided points are dropped; each side is jet-smoothed and despiked on its own and its
+//     normals re-estimated (flipped to agree with step 3).
+// Returns false (pn untouched except for MST drops) when fewer than half the points see two
+// sides: the scan is not a thin shell, and the MST normals are used as for heads.
+bool orient_thin_shell(std::vector<PN>& pn, unsigned k, ReconstructStats& st) {
+  CGAL::jet_estimate_normals<CGAL::Sequential_tag>(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
+  pn.erase(CGAL::mst_orient_normals(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap())), pn.end());
+  using Traits = CGAL::Search_traits_3<pipeline::Kernel>;
+  using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
+  std::vector<Point> pts(pn.size());
+  for (std::size_t i = 0; i < pn.size(); ++i) pts[i] = pn[i].first;
+  const Search::Tree tree(pts.begin(), pts.end());
+  const unsigned ks = 2 * k;
+  std::vector<int> side(pn.size(), 0);
+  std::vector<double> t, separations;
+  for (std::size_t i = 0; i < pn.size(); ++i) {
+    const Search search(tree, pn[i].first, ks);
+    // Plane of the neighbourhood (PCA over both sides: the mid-plane), oriented like the MST
+    // normal. A jet (quadric) fitted across the two sides tilts; a plane does not.
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> q;
+    for (const auto& nb : search) q.emplace_back(nb.first.x(), nb.first.y(), nb.first.z());
+    for (const auto& x : q) mean += x / double(q.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const auto& x : q) cov += (x - mean) * (x - mean).transpose();
+    Eigen::Vector3d m = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+    const Vector& mst = pn[i].second;
+    if (m.x() * mst.x() + m.y() * mst.y() + m.z() * mst.z() < 0) m = -m;
+    pn[i].second = Vector(m.x(), m.y(), m.z());
+    const Eigen::Vector3d p0(pn[i].first.x(), pn[i].first.y(), pn[i].first.z());
+    t.clear();
+    for (const auto& x : q) t.push_back((x - p0).dot(m));
+    std::sort(t.begin(), t.end());
+    const std::size_t n = t.size();
+    if (n < 8) continue;
+    std::vector<double> s1(n + 1, 0), s2(n + 1, 0);  // prefix sums of t and t²
+    for (std::size_t j = 0; j < n; ++j) s1[j + 1] = s1[j] + t[j], s2[j + 1] = s2[j] + t[j] * t[j];
+    double best = 1e300;
+    std::size_t split = 0;
+    const std::size_t min_cluster = n / 6;  // a side holds ≥ 1/6 of the neighbours (geometry: ≥ 1/4)
+    for (std::size_t j = min_cluster; j + min_cluster <= n; ++j) {
+      const double a = s1[j], b = s1[n] - s1[j];
+      const double sse = (s2[j] - a * a / double(j)) + (s2[n] - s2[j] - b * b / double(n - j));
+      if (sse < best) best = sse, split = j;
+    }
+    if (split == 0) continue;
+    const double lo = s1[split] / double(split), hi = (s1[n] - s1[split]) / double(n - split);
+    const double sd = std::sqrt(std::max(0.0, best) / double(n - 2));
+    if (hi - lo < 4.0 * sd) continue;
+    side[i] = (0.0 - lo < hi - 0.0) ? -1 : +1;
+    separations.push_back(hi - lo);
+  }
+  if (separations.size() * 2 < pn.size()) return false;
+  std::vector<PN> sides[2];
+  for (std::size_t i = 0; i < pn.size(); ++i)
+    if (side[i] != 0) sides[side[i] > 0].push_back({pn[i].first, side[i] * pn[i].second});
+  st.outliers_removed += pn.size() - sides[0].size() - sides[1].size();
+  std::nth_element(separations.begin(), separations.begin() + long(separations.size() / 2), separations.end());
+  st.wall_mm = separations[separations.size() / 2];
+  pn.clear();
+  for (auto& s : sides) {
+    st.outliers_removed += jet_smooth_and_despike(s, k);
+    if (s.size() <= k) continue;
+    std::vector<PN> renormal = s;
+    CGAL::jet_estimate_normals<CGAL::Sequential_tag>(renormal, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const Vector& n = renormal[i].second;
+      pn.push_back({s[i].first, n * s[i].second < 0 ? -n : n});
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 ScanKind parse_scan_kind(const std::string& name) {
@@ -89,8 +203,21 @@ ScanKind parse_scan_kind(const std::string& name) {
 std::string scan_kind_name(ScanKind k) { return k == ScanKind::head ? "head" : "respirator"; }
 double expected_size_mm(ScanKind k) { return k == ScanKind::head ? 250.0 : 130.0; }
 
+void KindAndUnitOptions::add_to(pipeline::Cli& cli, const std::string& kind_help) {
+  cli.option("-k", "--kind", &kind_name, kind_help);
+  cli.option("-u", "--unit", &unit_name, "unit of the input: auto, mm, cm, m, in");
+}
+ScanKind KindAndUnitOptions::kind() const { return parse_scan_kind(kind_name); }
+pipeline::ScanReadOptions KindAndUnitOptions::read_options() const {
+  pipeline::ScanReadOptions read;
+  read.unit = pipeline::parse_unit(unit_name);
+  read.expected_size_mm = expected_size_mm(kind());
+  return read;
+}
+
 ReconstructMethod parse_reconstruct_method(const std::string& name, ScanKind kind) {
-  if (name == "auto") return kind == ScanKind::head ? ReconstructMethod::poisson : ReconstructMethod::advancing_front;
+  // respirators too: the thin-shell normals make Poisson work on a whole cup (reconstruct.h)
+  if (name == "auto") return (void)kind, ReconstructMethod::poisson;
   if (name == "poisson") return ReconstructMethod::poisson;
   if (name == "advancing_front") return ReconstructMethod::advancing_front;
   if (name == "scale_space") return ReconstructMethod::scale_space;
@@ -139,30 +266,21 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
                                                  " points left after outlier removal, expected at least " +
                                                  std::to_string(min_points));
 
-  // 3. Denoise and remove spikes: each point is projected onto the jet (quadric) fitted to its
-  //    k neighbours (CGAL). A spike (a point several mm off the surface) stays near its
-  //    neighbours in k-NN distance, so step 2 misses it, but its projection moves it by its
-  //    height: points moved by more than 4 robust standard deviations (1.4826 × median move)
-  //    are removed, the others keep their denoised position.
-  progress.step("jet smoothing and spike removal");
-  {
-    std::vector<PN> smoothed = pn;
-    CGAL::jet_smooth_point_set<CGAL::Sequential_tag>(smoothed, k, CGAL::parameters::point_map(PointMap()));
-    std::vector<double> move(pn.size());
-    for (std::size_t i = 0; i < pn.size(); ++i) move[i] = std::sqrt(CGAL::squared_distance(pn[i].first, smoothed[i].first));
-    std::vector<double> sorted = move;
-    std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
-    const double limit = 4.0 * 1.4826 * sorted[sorted.size() / 2];
-    std::vector<PN> kept;
-    kept.reserve(pn.size());
-    for (std::size_t i = 0; i < pn.size(); ++i)
-      if (move[i] <= limit) kept.push_back({smoothed[i].first, pn[i].second});
-    st.outliers_removed += pn.size() - kept.size();
-    pn.swap(kept);
+  // 3. Denoise and remove spikes (jet_smooth_and_despike). A thin respirator shell is
+  //    smoothed side by side in step 4 instead (its neighbourhoods span both sides).
+  const bool thin_shell_candidate = kind == ScanKind::respirator && !has_normals;
+  if (!thin_shell_candidate) {
+    progress.step("jet smoothing and spike removal");
+    st.outliers_removed += jet_smooth_and_despike(pn, k);
   }
 
   // 4. Normals: jet fitting + minimum-spanning-tree orientation (CGAL), when the scan has none.
-  if (!has_normals) {
+  if (thin_shell_candidate) {
+    progress.step("thin-shell normals: both sides separated, each smoothed");
+    st.thin_shell = orient_thin_shell(pn, k, st);
+    st.normals_estimated = true;
+    if (!st.thin_shell) st.outliers_removed += jet_smooth_and_despike(pn, k);  // one side: as for heads
+  } else if (!has_normals) {
     progress.step("normal estimation and orientation");
     CGAL::jet_estimate_normals<CGAL::Sequential_tag>(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
     // points MST cannot reach are dropped: their normal would be a coin toss
@@ -206,7 +324,6 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     mesh = mesh_from_triangles(pts, tris);
     orient_like_normals(mesh, pts, pn);
   }
-  (void)kind;
   if (mesh.number_of_faces() == 0) throw pipeline::algorithm_failed("point cloud", "reconstruction produced no triangles");
   st.vertices = mesh.number_of_vertices();
   st.faces = mesh.number_of_faces();

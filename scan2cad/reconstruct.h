@@ -7,9 +7,12 @@
 ///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
 ///                      closed, smooth, fills scan holes; the default for heads;
 ///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
-///                      boundaries; the default for respirators (open shells);
+///                      boundaries (for one-sided scans of open shells);
 ///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
-/// The defaults come from measurements on noisy NIOSH headform scans; see README.md.
+/// The defaults come from measurements on noisy NIOSH headform scans; see README.md. Respirator
+/// scans of the whole cup (a thin closed shell, wall ~1.5 mm) also default to Poisson: their
+/// two sides are separated before normal orientation and smoothed one by one (step 4 then
+/// replaces step 3), which advancing front cannot do (measured in scan2cad/README.md).
 #include <cstddef>
 #include <string>
 
@@ -45,6 +48,11 @@ struct ReconstructStats {
   std::size_t input_points = 0, outliers_removed = 0, points_used = 0;
   bool normals_estimated = false;
   double spacing_mm = 0;  ///< mean k-NN spacing of the points used [mm]
+  /// respirator scans without normals: both sides of a thin wall were found and separated
+  /// before normal orientation (see reconstruct.cpp, orient_thin_shell); wall_mm = median
+  /// distance between the two sides [mm]
+  bool thin_shell = false;
+  double wall_mm = 0;
   std::size_t vertices = 0, faces = 0;
 };
 

@@ -13,25 +13,23 @@
 #include "scan2cad/reconstruct.h"
 
 int main(int argc, char** argv) {
-  std::string in, out, kind_name = "head", method_name = "auto", unit_name = "auto";
+  std::string in, out, method_name = "auto";
+  scan2cad::KindAndUnitOptions kind_unit;
   scan2cad::ReconstructOptions opt;
   pipeline::Cli cli("reconstruct", "Reconstructs a triangle mesh from a scanned point cloud (CGAL).");
   cli.option("-i", "--in", &in, "input scan: .ply .stl .obj .off .xyz (points or mesh)", pipeline::required);
   cli.option("-o", "--out", &out, "output triangle mesh (.ply .off .obj .stl)", pipeline::required);
-  cli.option("-k", "--kind", &kind_name, "head or respirator (sets defaults and unit guess)");
+  kind_unit.add_to(cli, "head or respirator (sets defaults and unit guess)");
   cli.option("-m", "--method", &method_name, "auto, poisson, advancing_front or scale_space");
-  cli.option("-u", "--unit", &unit_name, "unit of the input: auto, mm, cm, m, in");
   cli.option("-n", "--neighbors", &opt.neighbors, "neighbours for spacing, outliers, normals", 6, 200);
   cli.option("-f", "--outlier-factor", &opt.outlier_factor, "outlier if mean k-NN distance > f x spacing", 1.1, 1e6);
   cli.option("-c", "--cell", &opt.simplify_cell_mm, "grid simplification cell [mm], 0 = none", 0.0, 50.0);
   cli.option("-d", "--poisson-distance", &opt.poisson_distance_mm, "Poisson contouring accuracy [mm]", 1e-3, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options
-    const auto kind = scan2cad::parse_scan_kind(kind_name);
+    const auto kind = kind_unit.kind();
     opt.method = scan2cad::parse_reconstruct_method(method_name, kind);
-    pipeline::ScanReadOptions ropt;
-    ropt.unit = pipeline::parse_unit(unit_name);
-    ropt.expected_size_mm = scan2cad::expected_size_mm(kind);
+    const pipeline::ScanReadOptions ropt = kind_unit.read_options();
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
     // 3. Meshes pass through unchanged (repair handles soups), clouds are reconstructed
@@ -53,7 +51,8 @@ int main(int argc, char** argv) {
     pipeline::log("reconstruct", in + ": " + std::to_string(st.input_points) + " points, " +
                                      std::to_string(st.outliers_removed) + " outliers removed, spacing " +
                                      std::to_string(st.spacing_mm) + " mm, " + std::to_string(st.faces) +
-                                     " triangles → " + out);
+                                     " triangles → " + out +
+                                     (st.thin_shell ? " (thin shell, wall " + std::to_string(st.wall_mm) + " mm)" : ""));
     return 0;
   });
 }

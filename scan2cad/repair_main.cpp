@@ -15,14 +15,14 @@
 #include "scan2cad/repair.h"
 
 int main(int argc, char** argv) {
-  std::string in, out, report_path, kind_name = "head", unit_name = "auto";
+  std::string in, out, report_path;
+  scan2cad::KindAndUnitOptions kind_unit;
   scan2cad::RepairOptions opt;
   pipeline::Cli cli("repair", "Repairs a scanned surface: outliers, spikes, holes, self-intersections; remeshes.");
   cli.option("-i", "--in", &in, "input mesh: .ply .stl .obj .off", pipeline::required);
   cli.option("-o", "--out", &out, "output mesh (.ply .off .obj .stl)", pipeline::required);
   cli.option("-r", "--report", &report_path, "JSON report of the changes (optional)");
-  cli.option("-k", "--kind", &kind_name, "head (closed output) or respirator (rim kept open)");
-  cli.option("-u", "--unit", &unit_name, "unit of the input: auto, mm, cm, m, in");
+  kind_unit.add_to(cli, "head (closed output) or respirator (rim kept open)");
   cli.option("-e", "--edge", &opt.target_edge_mm, "target edge length [mm], 0 = no remeshing", 0.0, 50.0);
   cli.option("-n", "--remesh-iterations", &opt.remesh_iterations, "isotropic remeshing iterations", 1, 20);
   cli.option("-s", "--smooth", &opt.smoothing_iterations, "mean-curvature-flow smoothing steps", 0, 100);
@@ -30,10 +30,8 @@ int main(int argc, char** argv) {
   cli.option("-p", "--spike-factor", &opt.spike_factor, "spike: offset from one-ring plane > p x edge", 0.1, 100.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options
-    const auto kind = scan2cad::parse_scan_kind(kind_name);
-    pipeline::ScanReadOptions ropt;
-    ropt.unit = pipeline::parse_unit(unit_name);
-    ropt.expected_size_mm = scan2cad::expected_size_mm(kind);
+    const auto kind = kind_unit.kind();
+    const pipeline::ScanReadOptions ropt = kind_unit.read_options();
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
     if (!scan.is_mesh)

@@ -19,13 +19,6 @@ pipeline::PointCloud noisy_sphere(double r, std::size_t n, double noise, double 
   return generator::scan_surface(generator::triangles_of(test_meshes::sphere_soup(r, 120)), so, rng);
 }
 
-double max_radial_error(const pipeline::SurfaceMesh& m, double r) {
-  double worst = 0;
-  for (auto v : m.vertices())
-    worst = std::max(worst, std::abs(std::sqrt((m.point(v) - CGAL::ORIGIN).squared_length()) - r));
-  return worst;
-}
-
 }  // namespace
 
 TEST(reconstruct, three_points_are_bad_input) {
@@ -50,7 +43,7 @@ TEST(reconstruct, poisson_gives_a_closed_outward_sphere_within_the_noise) {
   EXPECT_GT(st.outliers_removed, cloud.points.size() / 200);
   // Poisson approximates: its error is below 3σ of the 0.2 mm noise plus its own 0.375-spacing
   // approximation (spacing ≈ 0.9 mm here): 0.6 + 0.35 ≈ 1 mm
-  EXPECT_LT(max_radial_error(m, 50), 1.0);
+  EXPECT_LT(test_meshes::max_radial_error(m, 50), 1.0);
   // outward: the signed volume is positive and close to 4/3 π r³ (within 2 %)
   double vol = 0;
   for (auto f : m.faces()) {
@@ -69,5 +62,5 @@ TEST(reconstruct, advancing_front_interpolates_a_clean_sphere) {
   EXPECT_GT(m.number_of_faces(), 30000u);  // ≈ 2 faces per point
   // jet smoothing moves points along the surface normal by less than the chord sagitta
   // of the 120-ring reference sphere (≈ 0.02 mm) plus its own fit error: 0.1 mm
-  EXPECT_LT(max_radial_error(m, 50), 0.1);
+  EXPECT_LT(test_meshes::max_radial_error(m, 50), 0.1);
 }

@@ -8,14 +8,6 @@
 #include "scan2cad/repair.h"
 #include "test_meshes.h"
 
-namespace {
-double max_radial_error(const pipeline::SurfaceMesh& m, double r) {
-  double worst = 0;
-  for (auto v : m.vertices())
-    worst = std::max(worst, std::abs(std::sqrt((m.point(v) - CGAL::ORIGIN).squared_length()) - r));
-  return worst;
-}
-}  // namespace
 
 TEST(remove_spikes, pulls_a_5mm_spike_back_and_leaves_a_smooth_sphere_alone) {
   auto m = test_meshes::mesh_of(test_meshes::sphere_soup(50, 60));  // edges ≈ 2.6 mm
@@ -25,7 +17,7 @@ TEST(remove_spikes, pulls_a_5mm_spike_back_and_leaves_a_smooth_sphere_alone) {
   m.point(v) = p + (p - CGAL::ORIGIN) * (5.0 / 50.0);
   EXPECT_EQ(scan2cad::internal::remove_spikes(m, 1.0), 1u);
   // back on the one-ring centroid: within the chord sagitta (e²/2r ≈ 0.07 mm) of the sphere
-  EXPECT_LT(max_radial_error(m, 50), 0.1);
+  EXPECT_LT(test_meshes::max_radial_error(m, 50), 0.1);
 }
 
 TEST(repair, cleans_a_soup_with_debris_degenerate_faces_and_a_hole) {
@@ -51,7 +43,7 @@ TEST(repair, cleans_a_soup_with_debris_degenerate_faces_and_a_hole) {
   // remeshing to 2 mm: mean edge within 25 % of the target (CGAL splits above 4/3, collapses below 4/5)
   EXPECT_NEAR(rep.mean_edge_mm, 2.0, 0.5);
   // one smoothing step shrinks a sphere of radius 50 negligibly; chords of 2 mm sag 0.01 mm
-  EXPECT_LT(max_radial_error(m, 50), 0.2);
+  EXPECT_LT(test_meshes::max_radial_error(m, 50), 0.2);
   EXPECT_GT(rep.volume_mm3, 0.0);  // outward
   const auto j = rep.to_json();
   EXPECT_EQ(j["closed"], true);

@@ -1,5 +1,6 @@
 #pragma once
 // Small meshes with known geometry for the scan2cad tests.
+#include <algorithm>
 #include <cmath>
 
 #include "pipeline/surface_mesh.h"
@@ -29,6 +30,15 @@ inline pipeline::PolygonSoup sphere_soup(double r, int rings) {
     }
   for (int j = 0; j < segs; ++j) s.polygons.push_back({south, id(rings - 1, j + 1), id(rings - 1, j)});
   return s;
+}
+
+/// Largest |distance to the origin − r| over the vertices of `m` [mm]: the error of a mesh
+/// meant to be the sphere of radius r centred at the origin.
+inline double max_radial_error(const pipeline::SurfaceMesh& m, double r) {
+  double worst = 0;
+  for (auto v : m.vertices())
+    worst = std::max(worst, std::abs(std::sqrt((m.point(v) - CGAL::ORIGIN).squared_length()) - r));
+  return worst;
 }
 
 /// The soup as a Surface_mesh.
