@@ -116,9 +116,34 @@ Triangles make_respirator(const RespiratorParams& p, const HeadShape& face) {
   // Vertex layout per sheet: centre, then rings 1..N of M points.
   const std::size_t in0 = add(0, 0, 0);
   for (int i = 1; i <= N; ++i) for (int j = 0; j < M; ++j) add(i, j, 0);
-  const std::size_t out0 = add(0, 0, p.wall);
-  for (int i = 1; i <= N; ++i) for (int j = 0; j < M; ++j) add(i, j, p.wall);
   auto v = [&](std::size_t s0, int i, int j) { return i == 0 ? s0 : s0 + 1 + std::size_t(i - 1) * M + std::size_t((j + M) % M); };
+  // The outer sheet is the inner one moved by `wall` along its normal (away from the face), so
+  // the wall is `wall` thick everywhere like a real shell: moved along z instead, it thinned to
+  // wall·|n_z| (~0.3 mm) on the steep band by the rim, where a scan's two sides then merge
+  // within the noise. Normals: area-weighted normals of the inner triangles (they face −z).
+  std::vector<Vector> normal(t.points.size(), Vector(0, 0, 0));
+  auto accumulate = [&](std::size_t a, std::size_t b, std::size_t c) {
+    const Vector n = CGAL::cross_product(t.points[b] - t.points[a], t.points[c] - t.points[a]);
+    normal[a] = normal[a] + n, normal[b] = normal[b] + n, normal[c] = normal[c] + n;
+  };
+  for (int j = 0; j < M; ++j) accumulate(v(in0, 0, 0), v(in0, 1, j), v(in0, 1, j + 1));
+  for (int i = 1; i < N; ++i)
+    for (int j = 0; j < M; ++j) {
+      accumulate(v(in0, i, j), v(in0, i + 1, j), v(in0, i + 1, j + 1));
+      accumulate(v(in0, i, j), v(in0, i + 1, j + 1), v(in0, i, j + 1));
+    }
+  // The polar grid's diagonals all lean one way; mirror-averaging keeps the shell symmetric.
+  auto mirrored = [](const Vector& n) { return Vector(-n.x(), n.y(), n.z()); };
+  normal[v(in0, 0, 0)] = Vector(0, normal[v(in0, 0, 0)].y(), normal[v(in0, 0, 0)].z());
+  for (int i = 1; i <= N; ++i)
+    for (int j = 0; j <= M / 2; ++j) {
+      const Vector sum = normal[v(in0, i, j)] + mirrored(normal[v(in0, i, M - j)]);
+      normal[v(in0, i, j)] = sum;
+      normal[v(in0, i, M - j)] = mirrored(sum);
+    }
+  const std::size_t out0 = t.points.size();
+  for (std::size_t k = in0; k < out0; ++k)
+    t.points.push_back(t.points[k] - p.wall / std::sqrt(normal[k].squared_length()) * normal[k]);
   // θ runs clockwise seen from +z, so (centre, j, j+1) faces −z: the inner sheet faces the face.
   for (int j = 0; j < M; ++j) {
     t.faces.push_back({v(in0, 0, 0), v(in0, 1, j), v(in0, 1, j + 1)});

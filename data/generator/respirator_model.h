@@ -8,8 +8,8 @@
 /// on the face (ray along −z). The inner surface over the polar grid of the outline is the
 /// rim height blended inward plus a dome D·(1 − ρ²)^0.7, with D at least `depth` and large
 /// enough to clear the face (nose) by `clearance`; the outer surface is the inner one moved by
-/// `wall` along +z, and a strip closes the rim. Both sheets are graphs over the x–y outline,
-/// so the shell is a closed 2-manifold that cannot self-intersect.
+/// `wall` along its normal (away from the face; the dome is convex seen from outside, so the
+/// offset cannot fold), and a strip closes the rim: a closed 2-manifold of constant thickness.
 #include <string>
 
 #include "data/generator/head_model.h"
@@ -20,7 +20,7 @@ struct RespiratorParams {
   double width = 0;         ///< rim breadth, cheek to cheek [mm], 80..180
   double height = 0;        ///< rim height, nasal bridge to chin [mm], 80..170
   double depth = 0;         ///< minimum dome depth in front of the rim [mm], 20..90
-  double wall = 1.5;        ///< shell thickness along z [mm], 0.5..4
+  double wall = 1.5;        ///< shell thickness along the normal [mm], 0.5..4
   double clearance = 8.0;   ///< minimum gap between inner shell and the face inside the rim [mm]
   double nose_drop = 5.0;   ///< top of the rim below the sellion [mm]
 };
