@@ -89,9 +89,16 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   long step0 = s.steps();
   SolverState good = s.state();
   RunSummary sum;
+  // The files of a sound run. A diverged run removes those an earlier run left in the same
+  // directory, so none of them can pass for its results (except the state this run started
+  // from: it is the user's input); a sound run removes the diverged_* files of an earlier failure.
+  const std::string started_from = !opt.restart.empty() ? opt.restart : m.initial_state.file;
+  const char* const sound_outputs[] = {"results.msh", "state.bin", "energy.csv", "forces.csv"};
   auto fail = [&](const std::string& why) {
     if (frames.is_open()) frames.close();
     fs::remove(frames_path, ec);
+    for (const char* f : sound_outputs)
+      if (started_from.empty() || !fs::equivalent(dir / f, started_from, ec)) fs::remove(dir / f, ec);
     const std::string diag = (dir / "diverged_state.bin").string();
     save_state(diag, good);
     pipeline::write_text_atomic((dir / "diverged_energy.csv").string(), energy_csv);
@@ -149,6 +156,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     });
     fs::remove(frames_path, ec);
   }
+  for (const char* f : {"diverged_state.bin", "diverged_energy.csv"}) fs::remove(dir / f, ec);
   sum.time = s.time();
   sum.steps = s.steps() - step0;
   sum.dt = s.dt();

@@ -11,6 +11,7 @@
 #include "pipeline/error.h"
 #include "solve/contact.h"
 #include "solve/internal/contact_geometry.h"
+#include "solve/make_block.h"
 
 using solve::ContactPair;
 using solve::ContactSpec;
@@ -28,14 +29,15 @@ struct FlatMaster {
   std::vector<double> x;
   std::vector<std::array<int, 3>> tris;
   FlatMaster(int n_, double h_) : n(n_), h(h_) {
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) x.insert(x.end(), {i * h, j * h, 0.0});
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
-        tris.push_back({a, b, c});
-        tris.push_back({a, c, d});
-      }
+    // make_plate's tri3 surface: node (i, j) = i + (n+1)·j, cell → {a, b, c}, {a, c, d}.
+    solve::PlateSpec ps;
+    ps.type = solve::ElementType::tri3;
+    ps.nx = n;
+    ps.ny = n;
+    ps.size = {n * h, n * h};
+    const solve::Model plate = solve::make_plate(ps, {"master", 1e-3, 1, 0.3, false});
+    x = plate.X;
+    tris = plate.surfaces.at("plate");
   }
   int nodes() const { return (n + 1) * (n + 1); }
   /// Lumped tributary area of each node: 1/3 of its triangles' areas [mm²].
@@ -47,26 +49,38 @@ struct FlatMaster {
   }
 };
 
+/// One slave node (the last node) at p over the flat master, its mass slave_mass, the master
+/// nodes massless (kinematic); the spec is ready for the test to adjust before making the pair.
+struct OneSlave {
+  std::vector<double> x, v, f, mass;
+  ContactSpec spec;
+  std::size_t s;  // the slave's node index
+  OneSlave(const FlatMaster& m, std::array<double, 3> p, double slave_mass, const std::string& name)
+      : x(m.x), s(std::size_t(m.nodes())) {
+    x.insert(x.end(), p.begin(), p.end());
+    v.assign(x.size(), 0.0);
+    f.assign(x.size(), 0.0);
+    mass.assign(s + 1, 0.0);
+    mass[s] = slave_mass;
+    spec.name = name;
+    spec.slave_nodes = {int(s)};
+    spec.master_tris = m.tris;
+  }
+  void add_forces(ContactPair& pair, double dt) { pair.add_forces(x.data(), v.data(), mass.data(), dt, f.data()); }
+};
+
 /// Contact force on one slave at p over the flat master (masters massless = kinematic).
 std::array<double, 3> force_on_slave(const FlatMaster& m, std::array<double, 3> p, double slave_mass,
                                      double dt, double* max_pen = nullptr) {
-  std::vector<double> x = m.x;
-  x.insert(x.end(), p.begin(), p.end());
-  const int s = m.nodes();
-  std::vector<double> v(x.size(), 0.0), f(x.size(), 0.0), mass(std::size_t(s) + 1, 0.0);
-  mass[std::size_t(s)] = slave_mass;
-  ContactSpec spec;
-  spec.name = "flat";
-  spec.slave_nodes = {s};
-  spec.master_tris = m.tris;
-  ContactPair pair(spec, std::size_t(s) + 1);
-  pair.add_forces(x.data(), v.data(), mass.data(), dt, f.data());
+  OneSlave c(m, p, slave_mass, "flat");
+  ContactPair pair(c.spec, c.mass.size());
+  c.add_forces(pair, dt);
   if (max_pen) *max_pen = pair.max_penetration();
   // Action and reaction: the master nodes carry minus the slave force.
   double sum[3] = {0, 0, 0};
-  for (std::size_t i = 0; i < f.size(); ++i) sum[i % 3] += f[i];
-  for (double c : sum) EXPECT_NEAR(c, 0.0, 1e-12);
-  return {f[3 * std::size_t(s)], f[3 * std::size_t(s) + 1], f[3 * std::size_t(s) + 2]};
+  for (std::size_t i = 0; i < c.f.size(); ++i) sum[i % 3] += c.f[i];
+  for (double sc : sum) EXPECT_NEAR(sc, 0.0, 1e-12);
+  return {c.f[3 * c.s], c.f[3 * c.s + 1], c.f[3 * c.s + 2]};
 }
 
 }  // namespace
@@ -373,20 +387,25 @@ TEST(contact_pair, slave_facets_give_the_master_consistent_nodal_loads) {
     ContactSpec spec;
     spec.name = facets ? "segments" : "nodes";
     spec.master_tris = m.tris;
+    // The slave lattice: make_plate's grid at z = −gap (node (i, j) = nm + i + (ns_side+1)·j),
+    // its triangles turned to face the master (−z); lumped masses ρ_a × tributary area.
+    solve::PlateSpec ps;
+    ps.type = solve::ElementType::tri3;
+    ps.nx = ns_side;
+    ps.ny = ns_side;
+    ps.size = {ns_side * hs, ns_side * hs};
+    ps.origin = {0, 0, -gap};
+    const solve::Model slave = solve::make_plate(ps, {"slave", 1e-3, 1, 0.3, false});
+    x.insert(x.end(), slave.X.begin(), slave.X.end());
     for (int j = 0; j <= ns_side; ++j)
       for (int i = 0; i <= ns_side; ++i) {
-        x.insert(x.end(), {i * hs, j * hs, -gap});
         spec.slave_nodes.push_back(int(mass.size()));
         const double wx = (i == 0 || i == ns_side) ? 0.5 : 1, wy = (j == 0 || j == ns_side) ? 0.5 : 1;
         mass.push_back(rho_a * hs * hs * wx * wy);
       }
     if (facets)
-      for (int j = 0; j < ns_side; ++j)
-        for (int i = 0; i < ns_side; ++i) {
-          const int a = nm + j * (ns_side + 1) + i, b = a + 1, c = a + ns_side + 2, d = a + ns_side + 1;
-          spec.slave_tris.push_back({a, c, b});
-          spec.slave_tris.push_back({a, d, c});
-        }
+      for (auto t : slave.surfaces.at("plate"))
+        spec.slave_tris.push_back({nm + t[0], nm + t[2], nm + t[1]});
     std::vector<double> v(x.size(), 0.0), f(x.size(), 0.0);
     ContactPair pair(spec, mass.size());
     if (facets) { EXPECT_EQ(pair.n_points(), std::size_t(9 * 2 * ns_side * ns_side)); }
@@ -409,46 +428,30 @@ TEST(contact_pair, slave_facets_give_the_master_consistent_nodal_loads) {
 TEST(contact_pair, two_sided_pushes_back_to_the_side_it_came_from) {
   // Thin shell: a slave approaching from below (side −) and penetrating upward gets pushed down.
   const FlatMaster m(4, 1.0);
-  std::vector<double> x = m.x;
-  x.insert(x.end(), {2.3, 1.7, -0.05});
-  const int s = m.nodes();
-  std::vector<double> v(x.size(), 0.0), f(x.size(), 0.0), mass(std::size_t(s) + 1, 0.0);
-  mass[std::size_t(s)] = 1e-3;
-  ContactSpec spec;
-  spec.name = "shell";
-  spec.slave_nodes = {s};
-  spec.master_tris = m.tris;
-  spec.two_sided = true;
-  ContactPair pair(spec, std::size_t(s) + 1);
-  pair.add_forces(x.data(), v.data(), mass.data(), 1e-2, f.data());
-  EXPECT_EQ(f[3 * std::size_t(s) + 2], 0.0);  // below, not penetrating: free
-  x[3 * std::size_t(s) + 2] = +0.01;           // crossed the shell by 0.01 mm
-  pair.add_forces(x.data(), v.data(), mass.data(), 1e-2, f.data());
-  EXPECT_NEAR(f[3 * std::size_t(s) + 2], -0.1 * 1e-3 / 1e-4 * 0.01, 1e-12);
+  OneSlave c(m, {2.3, 1.7, -0.05}, 1e-3, "shell");
+  c.spec.two_sided = true;
+  ContactPair pair(c.spec, c.mass.size());
+  c.add_forces(pair, 1e-2);
+  EXPECT_EQ(c.f[3 * c.s + 2], 0.0);  // below, not penetrating: free
+  c.x[3 * c.s + 2] = +0.01;          // crossed the shell by 0.01 mm
+  c.add_forces(pair, 1e-2);
+  EXPECT_NEAR(c.f[3 * c.s + 2], -0.1 * 1e-3 / 1e-4 * 0.01, 1e-12);
 }
 
 TEST(contact_pair, friction_sticks_below_and_slides_at_the_coulomb_limit) {
   // Elastic-slip friction: a small tangential slip gives a spring force k·slip; a large one is
   // capped at μ·F_n (exact by construction, round-off tolerance).
   const FlatMaster m(4, 1.0);
-  std::vector<double> x = m.x;
-  x.insert(x.end(), {2.3, 1.7, -0.01});
-  const int s = m.nodes();
-  std::vector<double> v(x.size(), 0.0), f(x.size(), 0.0), mass(std::size_t(s) + 1, 0.0);
-  mass[std::size_t(s)] = 1e-3;
-  ContactSpec spec;
-  spec.name = "friction";
-  spec.slave_nodes = {s};
-  spec.master_tris = m.tris;
-  spec.friction = 0.5;
+  OneSlave c(m, {2.3, 1.7, -0.01}, 1e-3, "friction");
+  c.spec.friction = 0.5;
   const double dt = 1e-2, k = 0.1 * 1e-3 / (dt * dt), fn = k * 0.01;
-  ContactPair pair(spec, std::size_t(s) + 1);
-  v[3 * std::size_t(s)] = 0.1;  // slips 0.001 mm per step along x: k·0.001 = 0.1·fn < μ·fn
-  pair.add_forces(x.data(), v.data(), mass.data(), dt, f.data());
-  EXPECT_NEAR(f[3 * std::size_t(s)], -k * 0.001, 1e-12);
+  ContactPair pair(c.spec, c.mass.size());
+  c.v[3 * c.s] = 0.1;  // slips 0.001 mm per step along x: k·0.001 = 0.1·fn < μ·fn
+  c.add_forces(pair, dt);
+  EXPECT_NEAR(c.f[3 * c.s], -k * 0.001, 1e-12);
   EXPECT_NEAR(pair.resultant_force()[2], fn, 1e-12);
-  v[3 * std::size_t(s)] = 10;  // slips 0.1 mm: limited to μ·fn
-  pair.add_forces(x.data(), v.data(), mass.data(), dt, f.data());
+  c.v[3 * c.s] = 10;  // slips 0.1 mm: limited to μ·fn
+  c.add_forces(pair, dt);
   EXPECT_NEAR(pair.resultant_force()[0], -0.5 * fn, 1e-12);
   double shear = 0;
   for (double t : pair.shear()) shear += t;

@@ -44,6 +44,38 @@ solve::Model busy_block() {
   return m;
 }
 
+// A soft wedge block (2 × 2 × 1 mm, skin) on a fixed rigid hex base (4 × 4 × 1 mm, bone) under
+// it, pressed down by 0.01 N on its top face (ramped over ramp_ms, then held); contact pair
+// "top_on_base": the block's bottom face (segment-to-surface) on the base's top, damping ratio 0.1.
+// The block's groups are prefixed "top_"; damping α = 2 /ms.
+struct BlockOnBase {
+  int base_cells = 5;              // per side, 1 layer
+  int top_cells = 2, top_layers = 2;
+  double jitter = 0;               // of the block's interior nodes
+  double ramp_ms = 1;
+  double friction = 0;
+};
+
+solve::Model block_on_rigid_base(const BlockOnBase& spec) {
+  solve::BlockSpec base;
+  base.nx = spec.base_cells; base.ny = spec.base_cells; base.nz = 1;
+  base.size = {4, 4, 1};
+  base.origin = {-1, -1, -1};
+  solve::Model m = solve::make_block(base, {"bone", 4.5e-3, 1000, 0.3, true});
+  solve::BlockSpec top;
+  top.type = ElementType::wedge6;
+  top.nx = spec.top_cells; top.ny = spec.top_cells; top.nz = spec.top_layers;
+  top.size = {2, 2, 1};
+  top.jitter = spec.jitter;
+  solve::Model t = solve::make_block(top, {"skin", 1.2e-3, 0.6, 0.45, false});
+  t.loads.push_back({"zmax", 2, solve::Curve{{0, spec.ramp_ms, 10}, {0, -0.01, -0.01}}});
+  solve::append_model(m, t, "top_");
+  for (int d = 0; d < 3; ++d) m.bcs.push_back({"all", d, solve::BcKind::fixed, {}});
+  m.contacts.push_back({"top_on_base", "top_zmin", "zmax", 0.1, 0.1, spec.friction, false});
+  m.control.damping_alpha = 2.0;
+  return m;
+}
+
 }  // namespace
 
 // A velocity ramp at the end of a bar (ν = 0, so the bar speed is exactly √(E/ρ)) travels along
@@ -180,14 +212,18 @@ TEST(solver, results_independent_of_thread_count) {
 }
 
 // Stability guard: crushing a block at 100 mm/ms inverts elements within a few steps; the run
-// stops with an algorithm error, writes the diagnostic state and no results file.
+// stops with an algorithm error, writes the diagnostic state and no results file. The directory
+// holds the outputs of an earlier sound run: they go too, so nothing there passes for results of
+// the diverged run.
 TEST(run, guard_stops_diverging_run_without_results) {
   solve::Model m = busy_block();
-  m.bcs.push_back({"zmax", 2, solve::BcKind::velocity, solve::Curve::constant(-100.0)});
   const std::string dir = temp_dir("guard");
   solve::RunOptions o;
   o.out_dir = dir;
   o.progress = false;
+  solve::run(m, o);
+  ASSERT_TRUE(fs::exists(dir + "/results.msh"));
+  m.bcs.push_back({"zmax", 2, solve::BcKind::velocity, solve::Curve::constant(-100.0)});
   try {
     solve::run(m, o);
     FAIL() << "no error";
@@ -196,8 +232,8 @@ TEST(run, guard_stops_diverging_run_without_results) {
     EXPECT_NE(std::string(e.what()).find("diverged"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(fs::exists(dir + "/diverged_state.bin"));
-  EXPECT_FALSE(fs::exists(dir + "/results.msh"));
-  EXPECT_FALSE(fs::exists(dir + "/state.bin"));
+  for (const char* f : {"results.msh", "state.bin", "energy.csv", "forces.csv"})
+    EXPECT_FALSE(fs::exists(dir + "/" + f)) << f;
 }
 
 // Energy guard: the balance error of a healthy run is small but not zero; a tolerance of 1e-12
@@ -224,28 +260,14 @@ TEST(run, guard_trips_on_energy_balance_error) {
 // (damped, 10 decay times after the ramp) the resultant contact force and the base reaction equal
 // the load within 1 % (residual inertia ~ e^-10), and the mean contact pressure is F/A.
 TEST(solver, contact_pair_carries_load_to_rigid_base) {
-  solve::BlockSpec base;
-  base.type = ElementType::hex8;
-  base.nx = 5; base.ny = 5; base.nz = 1;
-  base.size = {4, 4, 1};
-  base.origin = {-1, -1, -1};
-  solve::Model m = solve::make_block(base, {"bone", 4.5e-3, 1000, 0.3, true});
+  BlockOnBase spec;
+  spec.top_cells = 4;
+  spec.jitter = 0.1;
+  solve::Model m = block_on_rigid_base(spec);
   m.control.end_time = 6.0;
-  solve::BlockSpec top;
-  top.type = ElementType::wedge6;
-  top.nx = 4; top.ny = 4; top.nz = 2;
-  top.size = {2, 2, 1};
-  top.origin = {0, 0, 0};
-  top.jitter = 0.1;
-  solve::Model t = solve::make_block(top, {"skin", 1.2e-3, 0.6, 0.45, false});
-  t.loads.push_back({"zmax", 2, solve::Curve{{0, 1, 10}, {0, -0.01, -0.01}}});
-  solve::append_model(m, t, "top_");
-  for (int d = 0; d < 3; ++d) m.bcs.push_back({"all", d, solve::BcKind::fixed, {}});
   // keep the top block from drifting sideways (frictionless contact): x/y of one edge
   m.bcs.push_back({"top_xmin", 0, solve::BcKind::fixed, {}});
   m.bcs.push_back({"top_ymin", 1, solve::BcKind::fixed, {}});
-  m.contacts.push_back({"top_on_base", "top_zmin", "zmax", 0.1, 0.1, 0.0, false});
-  m.control.damping_alpha = 2.0;
   solve::Solver s(m);
   s.run_until(6.0);
   ASSERT_TRUE(s.health().empty()) << s.health();
@@ -338,21 +360,9 @@ TEST(mass_scaling, target_step_adds_mass_and_keeps_static_answer) {
 // Penetration guard: the block pressed on the base penetrates ~2 µm; a tolerance of 0.1 µm stops
 // the run with the diagnostic state and no results.
 TEST(run, guard_trips_on_penetration) {
-  solve::BlockSpec base;
-  base.type = ElementType::hex8;
-  base.nx = 3; base.ny = 3; base.nz = 1;
-  base.size = {4, 4, 1};
-  base.origin = {-1, -1, -1};
-  solve::Model m = solve::make_block(base, {"bone", 4.5e-3, 1000, 0.3, true});
-  solve::BlockSpec top;
-  top.type = ElementType::wedge6;
-  top.size = {2, 2, 1};
-  solve::Model t = solve::make_block(top, {"skin", 1.2e-3, 0.6, 0.45, false});
-  t.loads.push_back({"zmax", 2, solve::Curve{{0, 1, 10}, {0, -0.01, -0.01}}});
-  solve::append_model(m, t, "top_");
-  for (int d = 0; d < 3; ++d) m.bcs.push_back({"all", d, solve::BcKind::fixed, {}});
-  m.contacts.push_back({"top_on_base", "top_zmin", "zmax", 0.1, 0.1, 0.0, false});
-  m.control.damping_alpha = 2.0;
+  BlockOnBase spec;
+  spec.base_cells = 3;
+  solve::Model m = block_on_rigid_base(spec);
   m.control.end_time = 3;
   m.control.penetration_tolerance = 1e-4;
   solve::RunOptions o;
@@ -368,27 +378,17 @@ TEST(run, guard_trips_on_penetration) {
   EXPECT_FALSE(fs::exists(o.out_dir + "/results.msh"));
 }
 
+// The block on its base pushed sideways as well, with Coulomb friction (μ = 0.3): the side push
+// stays below μ·F_n, so the contact points hold elastic stick forces.
 namespace {
-// A soft block pressed onto a rigid base and pushed sideways, with Coulomb friction (μ = 0.3):
-// the side push stays below μ·F_n, so the contact points hold elastic stick forces.
 solve::Model block_on_base_with_friction() {
-  solve::BlockSpec base;
-  base.nx = 5; base.ny = 5; base.nz = 1;
-  base.size = {4, 4, 1};
-  base.origin = {-1, -1, -1};
-  solve::Model m = solve::make_block(base, {"bone", 4.5e-3, 1000, 0.3, true});
-  solve::BlockSpec top;
-  top.type = ElementType::wedge6;
-  top.nx = 3; top.ny = 3; top.nz = 2;
-  top.size = {2, 2, 1};
-  top.jitter = 0.1;
-  solve::Model t = solve::make_block(top, {"skin", 1.2e-3, 0.6, 0.45, false});
-  t.loads.push_back({"zmax", 2, solve::Curve{{0, 0.5, 10}, {0, -0.01, -0.01}}});
-  t.loads.push_back({"zmax", 0, solve::Curve{{0, 0.5, 1, 10}, {0, 0, 0.002, 0.002}}});
-  solve::append_model(m, t, "top_");
-  for (int d = 0; d < 3; ++d) m.bcs.push_back({"all", d, solve::BcKind::fixed, {}});
-  m.contacts.push_back({"top_on_base", "top_zmin", "zmax", 0.1, 0.1, 0.3, false});
-  m.control.damping_alpha = 2.0;
+  BlockOnBase spec;
+  spec.top_cells = 3;
+  spec.jitter = 0.1;
+  spec.ramp_ms = 0.5;
+  spec.friction = 0.3;
+  solve::Model m = block_on_rigid_base(spec);
+  m.loads.push_back({"top_zmax", 0, solve::Curve{{0, 0.5, 1, 10}, {0, 0, 0.002, 0.002}}});
   m.control.end_time = 2.0;
   return m;
 }
