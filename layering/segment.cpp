@@ -222,18 +222,10 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
     const auto h = mesh.halfedge(f);
     centre[f] = CGAL::centroid(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h))));
   }
-  // 1. Cavity axis: through the centroid of the vertices, along z (the face side is -z).
-  double c[2] = {0, 0};
-  for (auto v : mesh.vertices()) c[0] += mesh.point(v).x(), c[1] += mesh.point(v).y();
-  for (double& x : c) x /= double(mesh.number_of_vertices());
-  // How much a face looks toward the face side: toward -z, and (where the wall is nearly parallel
-  // to z) toward the cavity axis. On the inner sheet it is positive, on the outer one negative.
-  std::vector<double> score(nf);
-  for (auto f : mesh.faces()) {
-    const auto& n = normal[f];
-    const double dx = c[0] - centre[f].x(), dy = c[1] - centre[f].y();
-    score[f] = -n.z() + 0.5 * (n.x() * dx + n.y() * dy) / std::max(1e-9, std::hypot(dx, dy));
-  }
+  // 1. How much a face looks toward the face side (-z): breaks ties between the sheets and
+  //    orients a single open sheet.
+  std::vector<double> toward_face(nf);
+  for (auto f : mesh.faces()) toward_face[f] = -normal[f].z();
   // 2. Wall partner of each face: the first face hit by a ray from its centre into the material
   //    (-normal). On the two sheets of a thin shell it is the opposite sheet at about the wall
   //    thickness; on the rim strip joining them (and on an open sheet) the ray runs along the
@@ -274,15 +266,43 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
     if (hit_mm[f] <= pair_limit_mm && normal[f] * normal[partner[f]] < -0.7) is_paired[f] = 1, ++paired;
   // A thin shell has most faces paired; otherwise the input is taken as a single open sheet.
   const bool thin_shell = wall_mm > 0 && paired > nf / 2;
-  // 3. Inner faces: on a thin shell, the paired face that looks more toward the face side than
-  //    its partner; on a single sheet, every face (the sheet is oriented toward -z first).
+  // 3. Inner faces. On a thin shell: of a face and its partner, the one that faces the cavity,
+  //    i.e. sees more of the shell around it (share of 24 rays spread over the hemisphere of its
+  //    normal that hit the shell): the inside of a cup, funnel or tray is enclosed, the outside
+  //    is not. A plain -z test fails where the wall is parallel to z and on parts that are not
+  //    cups (the real Conforming invert is a tray open toward +z). Near-ties (< 0.1 apart, e.g. a
+  //    flat flange) go to the face looking toward -z. On a single sheet: every face, the sheet
+  //    oriented toward -z first.
   Labels label = mesh.add_property_map<FaceIndex, int>(pipeline::part_property, 1).first;
   if (thin_shell) {
-    for (auto f : mesh.faces())
-      if (is_paired[f] && score[f] > score[partner[f]]) label[f] = respirator_inner;
+    std::vector<double> enclosed(nf, -1.0);
+    auto enclosure = [&](FaceIndex f) {
+      if (enclosed[f] >= 0) return enclosed[f];
+      const auto& n = normal[f];
+      const pipeline::Vector t1 = std::abs(n.x()) < 0.9 ? CGAL::cross_product(n, pipeline::Vector(1, 0, 0))
+                                                        : CGAL::cross_product(n, pipeline::Vector(0, 1, 0));
+      const pipeline::Vector u = t1 / std::sqrt(t1.squared_length()), w = CGAL::cross_product(n, u);
+      const pipeline::Point origin = centre[f] + 1e-3 * wall_mm * n;
+      const int rays = 24;
+      int hits = 0;
+      for (int k = 0; k < rays; ++k) {
+        // Fibonacci spiral over the hemisphere, cos(angle to the normal) from 0.96 down to 0.17.
+        const double cz = 0.96 - 0.79 * (k + 0.5) / rays, sz = std::sqrt(1 - cz * cz);
+        const double phi = k * 2.399963229728653;  // golden angle [rad]
+        const pipeline::Vector d = cz * n + sz * (std::cos(phi) * u + std::sin(phi) * w);
+        hits += tree.do_intersect(pipeline::Kernel::Ray_3(origin, d));
+      }
+      return enclosed[f] = double(hits) / rays;
+    };
+    for (auto f : mesh.faces()) {
+      if (!is_paired[f]) continue;
+      const double here = enclosure(f), there = enclosure(partner[f]);
+      if (std::abs(here - there) >= 0.1 ? here > there : toward_face[f] > toward_face[partner[f]])
+        label[f] = respirator_inner;
+    }
   } else {
     double s = 0;
-    for (auto f : mesh.faces()) s += score[f] * PMP::face_area(f, mesh);
+    for (auto f : mesh.faces()) s += toward_face[f] * PMP::face_area(f, mesh);
     if (s < 0) PMP::reverse_face_orientations(mesh);
     for (auto f : mesh.faces()) label[f] = respirator_inner;
   }

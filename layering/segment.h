@@ -73,13 +73,14 @@ struct RespiratorSegmentInfo {
 /// Thin shell (a closed surface around a wall of a few mm, as a reconstruction or the
 /// generator's clean mesh): the shell is oriented outward; each face is paired with the opposite
 /// sheet (first hit of a ray from its centre along −normal, facing within 45° of opposite, within
-/// 8 × the median hit distance = the wall thickness); of a pair, the face that looks more toward
-/// the face side (−n·z plus
-/// half its lateral component toward the cavity axis) is inner. Faces of the strip that joins the
+/// 8 × the median hit distance = the wall thickness); of a pair, the face that faces the cavity is
+/// inner: the one that sees more of the shell (share of 24 rays over the hemisphere of its normal
+/// that hit it; near-ties go to the face looking toward −z). Faces of the strip that joins the
 /// two sheets along the edge of the cup have no near partner and are dropped, so the rim is the
 /// inner sheet's edge. If fewer than half of the faces pair, the input is one open sheet: all of
 /// it is kept, oriented toward −z. Then islands of either side are merged, and the rim is made
-/// smooth (teeth and notches one triangle deep removed).
+/// smooth (teeth and notches one triangle deep removed). A frame open at both ends (the real
+/// face-seal parts) gives an annulus (two rims), not a disk.
 /// @param[out] info  optional: shell or sheet, wall thickness, paired share
 /// @throws pipeline::Error(bad_input) on an empty mesh; Error(algorithm) if no inner face is found
 PartStats segment_respirator(pipeline::SurfaceMesh& mesh, RespiratorSegmentInfo* info = nullptr);
