@@ -14,7 +14,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "data/generator/head_model.h"
@@ -32,6 +35,12 @@ using pipeline::SurfaceMesh;
 namespace {
 
 const fs::path dir = fs::temp_directory_path() / ("respirator_path_test_" + std::to_string(::getpid()));
+
+// Removes the scratch directory after the last test.
+struct ScratchCleanup : ::testing::Environment {
+  void TearDown() override { fs::remove_all(dir); }
+};
+const auto* const cleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
 SurfaceMesh clean_cup(const std::string& id) {
   generator::HeadParams face;
@@ -212,3 +221,48 @@ INSTANTIATE_TEST_SUITE_P(shared_parts, RealPart, ::testing::Values("Flex_Face_Se
                              if (c == '-') c = '_';
                            return n;
                          });
+
+namespace {
+
+// Runs one stage program of BIN_DIR; returns its exit code, stderr in *err.
+int run_stage(const std::string& args, std::string* err) {
+  const std::string log = (dir / "stage_stderr.txt").string();
+  const int rc = std::system((std::string(BIN_DIR) + "/" + args + " >/dev/null 2>" + log).c_str());
+  std::ifstream in(log);
+  err->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return WEXITSTATUS(rc);
+}
+
+}  // namespace
+
+// The stage programs in Makefile.cases' order on the generator's clean onesize cup; bad input to
+// segment and fit gives one error line naming the file, exit 2, and no output.
+TEST(respirator_cli, clean_cup_through_the_stage_programs_and_bad_input) {
+  fs::create_directories(dir);
+  const std::string d = dir.string() + "/cli_";
+  std::string err;
+  ASSERT_EQ(run_stage("generate_scan --kind respirator --id onesize --params " + std::string(SOURCE_DIR) +
+                          "/data/generator/respirators.json --points 2000 --out " + d + "scan.ply --clean-mesh " + d +
+                          "clean.ply",
+                      &err), 0) << err;
+  ASSERT_EQ(run_stage("align --kind respirator --in " + d + "clean.ply --out " + d + "aligned.ply --transform " + d +
+                          "align.json", &err), 0) << err;
+  ASSERT_EQ(run_stage("segment --kind respirator --in " + d + "aligned.ply --out " + d + "segmented.ply", &err), 0) << err;
+  EXPECT_NE(err.find("thin shell, wall 1.50 mm"), std::string::npos) << err;
+  EXPECT_NE(err.find("euler 1  boundary loops 1"), std::string::npos) << err;
+  ASSERT_EQ(run_stage("fit --kind respirator --in " + d + "segmented.ply --out " + d + "fitted.ply", &err), 0) << err;
+  ASSERT_EQ(run_stage("surface_mesh --kind respirator --in " + d + "fitted.ply --out " + d + "surface.msh", &err), 0) << err;
+  ASSERT_EQ(run_stage("layers --kind respirator --materials " + std::string(SOURCE_DIR) + "/data/materials.json --in " +
+                          d + "surface.msh --out " + d + "layers.msh", &err), 0) << err;
+  const std::string check = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + d +
+                            "layers.msh'); assert {'respirator_seal', 'respirator_outer', 'respirator_inner'} <= set(m.cell_sets)\"";
+  EXPECT_EQ(std::system(check.c_str()), 0);
+
+  // Bad input: a missing file, and a head-kind label file given to fit as a respirator.
+  EXPECT_EQ(run_stage("segment --kind respirator --in " + d + "missing.ply --out " + d + "bad.ply", &err), 2);
+  EXPECT_NE(err.find("missing.ply"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(d + "bad.ply"));
+  EXPECT_EQ(run_stage("fit --kind respirator --in " + d + "aligned.ply --out " + d + "bad.ply", &err), 2);
+  EXPECT_NE(err.find("part"), std::string::npos) << err;  // not segmented: no "part" property
+  EXPECT_FALSE(fs::exists(d + "bad.ply"));
+}
