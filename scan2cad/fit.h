@@ -44,6 +44,17 @@ void check_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind
 pipeline::SurfaceMesh remesh_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind,
                                    double edge_mm, double back_edge_mm = 0);
 
+/// The fit stage. Heads: constrained isotropic remeshing at `edge_mm` as remesh_parts, with the
+/// sharp edges (> 60 deg) kept as constraints too; then, where that uniform surface misses the
+/// input by more than `refine_above_mm` (highly curved places such as the ears: 1.2-1.5 mm at
+/// 2 mm edges on the generated heads), the input is remeshed again with those places (grown by
+/// ~2 edges) at edge_mm / 2 and the rest at edge_mm. Returns the uniform surface if nothing
+/// misses by more (or refine_above_mm <= 0). Respirators: remesh_parts (its rim handling).
+/// @param[out] refined_faces if given: input faces in the refined region (0 if none)
+/// @throws pipeline::Error(bad_input) as check_parts
+pipeline::SurfaceMesh fit_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind, double edge_mm,
+                                double refine_above_mm = 0.5, std::size_t* refined_faces = nullptr);
+
 /// Raises the worst triangles of a remeshed, part-labelled mesh: rounds of quality-driven edge
 /// flips inside each part (an edge is flipped when that raises the smaller gamma of its two
 /// triangles and the two are within 20 deg of coplanar) followed by CGAL angle smoothing of the
@@ -71,6 +82,7 @@ struct FitDeviation {
   std::string name;
   std::size_t samples = 0;            ///< points measured in both directions
   double rms_mm = 0, max_mm = 0;      ///< both directions pooled [mm]
+  pipeline::Point max_at{0, 0, 0};    ///< the sample point where max_mm was measured
 };
 
 /// Per part: distances of the fitted part's vertices and triangle centroids to the reference's

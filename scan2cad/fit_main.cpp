@@ -22,12 +22,14 @@
 
 int main(int argc, char** argv) {
   std::string in, out, kind = "head";
-  double edge_mm = 2.0;
+  double edge_mm = 2.0, refine_above_mm = 0.5;
   pipeline::Cli cli("fit", "Fits a smooth part-wise surface (constrained isotropic remeshing) to a segmented surface.");
   cli.option("-i", "--in", &in, "segmented mesh (.ply with face property 'part')", pipeline::required);
   cli.option("-o", "--out", &out, "fitted surface (.ply with face property 'part', or .msh)", pipeline::required);
   cli.option("-k", "--kind", &kind, "head | respirator (default head)");
   cli.option("-e", "--edge", &edge_mm, "target edge length of the fitted surface [mm] (default 2)", 0.3, 20.0);
+  cli.option("-r", "--refine-above", &refine_above_mm,
+             "remesh at edge/2 where the uniform fit misses the input by more than this [mm] (default 0.5; 0 = off)", 0.0, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options and input
     if (kind != "head" && kind != "respirator")
@@ -39,13 +41,17 @@ int main(int argc, char** argv) {
     const pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);
     // 2. Fit
     progress.step("remeshing the parts");
-    const pipeline::SurfaceMesh fitted = scan2cad::remesh_parts(mesh, kind, edge_mm);
+    std::size_t refined_faces = 0;
+    const pipeline::SurfaceMesh fitted = scan2cad::fit_parts(mesh, kind, edge_mm, refine_above_mm, &refined_faces);
+    if (refined_faces > 0)
+      pipeline::log("fit", "refined at " + std::to_string(edge_mm / 2) + " mm: " + std::to_string(refined_faces) +
+                               " input faces where the uniform fit missed by more than " + std::to_string(refine_above_mm) + " mm");
     // 3. Deviation, then write
     progress.step("measuring the deviation");
     for (const auto& d : scan2cad::fit_deviation(mesh, fitted, kind)) {
       char line[200];
-      std::snprintf(line, sizeof line, "%-16s deviation rms %.4f max %.4f mm (%zu points, both directions)",
-                    d.name.c_str(), d.rms_mm, d.max_mm, d.samples);
+      std::snprintf(line, sizeof line, "%-16s deviation rms %.4f max %.4f mm at (%.1f, %.1f, %.1f) (%zu points, both directions)",
+                    d.name.c_str(), d.rms_mm, d.max_mm, d.max_at.x(), d.max_at.y(), d.max_at.z(), d.samples);
       pipeline::log("fit", line);
     }
     if (ext == ".ply") {
