@@ -19,7 +19,7 @@
 int main(int argc, char** argv) {
   std::string mesh_path, method_name = "auto", out_prefix;
   int points = 1000000, seed = 7;
-  double noise = 0.3, outliers = 0.01, cell = -1, pdist = -1;
+  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1;
   scan2cad::RepairOptions ropt;
   pipeline::Cli cli("bench_scan2cad", "Times reconstruct + repair on a simulated scan of a mesh.");
   cli.option("-m", "--mesh", &mesh_path, "reference surface (STL/PLY/OFF/OBJ)", pipeline::required);
@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   cli.option("-f", "--outliers", &outliers, "outlier fraction", 0, 0.4);
   cli.option("-M", "--method", &method_name, "reconstruction method (auto, poisson, advancing_front, scale_space)");
   cli.option("-c", "--cell", &cell, "grid simplification cell [mm] (-1: default)", -1, 50);
+  cli.option("-C", "--denoised-cell", &denoised_cell, "grid cell after smoothing [mm] (-1: default)", -1, 50);
   cli.option("-d", "--poisson-distance", &pdist, "Poisson accuracy [mm] (-1: default)", -1, 10);
   cli.option("-e", "--edge", &ropt.target_edge_mm, "repair target edge [mm]", 0, 50);
   cli.option("-s", "--smooth", &ropt.smoothing_iterations, "repair smoothing steps", 0, 100);
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
     scan2cad::ReconstructOptions opt;
     opt.method = scan2cad::parse_reconstruct_method(method_name, scan2cad::ScanKind::head);
     if (cell >= 0) opt.simplify_cell_mm = cell;
+    if (denoised_cell >= 0) opt.denoised_cell_mm = denoised_cell;
     if (pdist > 0) opt.poisson_distance_mm = pdist;
     auto t0 = clock::now();
     scan2cad::ReconstructStats rs;

@@ -7,12 +7,12 @@
 ///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
 ///                      closed, smooth, fills scan holes; the default for heads;
 ///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
-///                      boundaries (for one-sided scans of open shells);
+///                      boundaries; the default for respirators;
 ///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
 /// The defaults come from measurements on noisy NIOSH headform scans; see README.md. Respirator
-/// scans of the whole cup (a thin closed shell, wall ~1.5 mm) also default to Poisson: their
-/// two sides are separated before normal orientation and smoothed one by one (step 4 then
-/// replaces step 3), which advancing front cannot do (measured in scan2cad/README.md).
+/// scans of the whole cup (a thin closed shell, wall ~1.5 mm, no normals): the two sides are
+/// separated before normal orientation and only the inner side (toward the face) is kept and
+/// smoothed (step 4 then replaces step 3); the result is an open sheet whose border is the rim.
 #include <cstddef>
 #include <string>
 
@@ -38,9 +38,15 @@ struct ReconstructOptions {
   /// grid simplification cell [mm] applied before reconstruction (0 = none); dense scans are
   /// thinned to this spacing, which bounds time and memory; default 0.8 mm
   double simplify_cell_mm = 0.8;
+  /// grid cell [mm] applied again after jet smoothing, when the points lie on the surface
+  /// (0 = none); bounds the cost of normals and Poisson by the surface area; default 0.8 mm
+  double denoised_cell_mm = 0.8;
   /// Poisson contouring accuracy: largest distance of a facet to the implicit surface [mm];
   /// default 0.05, range > 0
   double poisson_distance_mm = 0.05;
+  /// advancing front: longest edge of a facet, in multiples of the point spacing (longer
+  /// facets are vetoed and left as holes for repair); default 5, range > 1
+  double max_edge_spacings = 5.0;
 };
 
 /// What reconstruct did, for the log and the tests.
@@ -53,6 +59,7 @@ struct ReconstructStats {
   /// distance between the two sides [mm]
   bool thin_shell = false;
   double wall_mm = 0;
+  std::size_t outer_side_points = 0;  ///< thin shell: points of the outer side, left out
   std::size_t vertices = 0, faces = 0;
 };
 
