@@ -274,6 +274,7 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
   //    flat flange) go to the face looking toward -z. On a single sheet: every face, the sheet
   //    oriented toward -z first.
   Labels label = mesh.add_property_map<FaceIndex, int>(pipeline::part_property, 1).first;
+  for (auto f : mesh.faces()) label[f] = 1;  // an input that is already labelled starts afresh
   if (thin_shell) {
     std::vector<double> enclosed(nf, -1.0);
     auto enclosure = [&](FaceIndex f) {

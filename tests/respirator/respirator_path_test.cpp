@@ -6,6 +6,7 @@
 
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <gmsh.h>
 
@@ -122,6 +123,17 @@ TEST_P(GeneratedCup, align_segment_fit_surface_mesh_layers) {
   EXPECT_GT(share, 0.45);
   EXPECT_LT(share, 0.50);
   EXPECT_LT(mean_normal_z(inner), -0.3);  // looks toward the face
+
+  // The inner face alone, turned over (a reconstruction that keeps one side of the wall): kept
+  // whole as a single open sheet and turned back toward the face.
+  SurfaceMesh sheet = inner;
+  PMP::reverse_face_orientations(sheet);
+  layering::RespiratorSegmentInfo sheet_info;
+  const layering::PartStats sheet_seg = layering::segment_respirator(sheet, &sheet_info);
+  EXPECT_FALSE(sheet_info.thin_shell);
+  EXPECT_EQ(sheet_seg.faces, seg.faces);
+  EXPECT_EQ(sheet_seg.euler, 1);
+  EXPECT_LT(mean_normal_z(sheet), -0.3);
 
   // fit (the fit CLI's default 2 mm): deviation budget of issue 3.
   const SurfaceMesh fitted = scan2cad::remesh_parts(inner, "respirator", 2.0);
