@@ -126,6 +126,26 @@ void respirator_axes(const SurfaceSamples& s, const internal::Plane& pl, const V
   };
   z = end_spread(b, true, 0.2, true) > end_spread(b, false, 0.2, true) ? Vector3d(-b) : b;
   y = end_spread(a, true, 0.25, false) < end_spread(a, false, 0.25, false) ? a : Vector3d(-a);
+  // Pitch from the rim: in the symmetry plane the shell's section is a U (two bands for a frame
+  // open at both ends) whose tips toward the face side (-z) are the rim at the nose bridge and
+  // at the chin. y runs from the chin tip to the nose tip, so the nose-chin line of the rim is
+  // vertical, as on a face aligned by `align --kind head`. (The long axis alone tilts the
+  // generated cups by ~12 deg: assembled, their rim then stands off the cheeks.)
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& p : s.p) lo = std::min(lo, p.dot(y)), hi = std::max(hi, p.dot(y));
+  const double mid = 0.5 * (lo + hi), band_mm = 1.5;
+  const Vector3d* tip[2] = {nullptr, nullptr};  // chin, nose
+  for (const auto& p : s.p) {
+    if (std::abs(pl.n.dot(p) - pl.d) > band_mm) continue;
+    const int k = p.dot(y) > mid ? 1 : 0;
+    if (!tip[k] || p.dot(z) < tip[k]->dot(z)) tip[k] = &p;
+  }
+  if (!tip[0] || !tip[1]) return;
+  Vector3d rim_y = *tip[1] - *tip[0];
+  rim_y -= pl.n.dot(rim_y) * pl.n;
+  if (rim_y.norm() < 0.25 * (hi - lo) || rim_y.normalized().dot(y) < std::cos(45.0 * M_PI / 180.0)) return;
+  y = rim_y.normalized();
+  z = (z - z.dot(y) * y).normalized();
 }
 
 }  // namespace

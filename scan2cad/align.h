@@ -14,7 +14,9 @@
 ///     vertical (y), the face looking along its normal (z);
 ///     respirator: y = the long in-plane axis (rim outline nose→chin), z = the short one; the
 ///     open (concave) side of the cup, where the outline is larger, faces −z; the nose end of the
-///     outline, the narrower one, is +y;
+///     outline, the narrower one, is +y; then the pitch is set from the rim: y = from the chin
+///     tip to the nose tip of the shell's section in the symmetry plane (its extremes toward −z),
+///     so the rim's nose–chin line is vertical as on an aligned face;
 ///  3. x = y × z (right-handed).
 /// Origin: x = 0 on the symmetry plane; y = 0 and z = 0 at the centre of the bounding box of the
 /// aligned surface (in y and z).
