@@ -39,8 +39,10 @@ struct ReconstructOptions {
   /// thinned to this spacing, which bounds time and memory; default 0.8 mm
   double simplify_cell_mm = 0.8;
   /// grid cell [mm] applied again after jet smoothing, when the points lie on the surface
-  /// (0 = none); bounds the cost of normals and Poisson by the surface area; default 0.8 mm
-  double denoised_cell_mm = 0.8;
+  /// (0 = none); bounds the cost of normals and Poisson by the surface area. Default 0 (off):
+  /// at 0.8 mm it thinned the NIOSH large ears away (acceptance test, 200k points: p95
+  /// 0.315 mm, Hausdorff 8.6 mm at the ear); it speeds up 1M-point scans (see README.md)
+  double denoised_cell_mm = 0;
   /// Poisson contouring accuracy: largest distance of a facet to the implicit surface [mm];
   /// default 0.05, range > 0
   double poisson_distance_mm = 0.05;

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   cli.option("-n", "--neighbors", &opt.neighbors, "neighbours for spacing, outliers, normals", 6, 200);
   cli.option("-f", "--outlier-factor", &opt.outlier_factor, "outlier if mean k-NN distance > f x spacing", 1.1, 1e6);
   cli.option("-c", "--cell", &opt.simplify_cell_mm, "grid simplification cell [mm], 0 = none", 0.0, 50.0);
-  cli.option("-C", "--denoised-cell", &opt.denoised_cell_mm, "grid cell after smoothing [mm], 0 = none", 0.0, 50.0);
+  cli.option("-C", "--denoised-cell", &opt.denoised_cell_mm, "grid cell after smoothing [mm], 0 = none (faster on dense scans, loses thin ears)", 0.0, 50.0);
   cli.option("-d", "--poisson-distance", &opt.poisson_distance_mm, "Poisson contouring accuracy [mm]", 1e-3, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options
