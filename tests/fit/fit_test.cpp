@@ -13,6 +13,7 @@
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
+#include "../niosh_medium_ply.h"
 
 namespace fs = std::filesystem;
 
@@ -20,15 +21,7 @@ namespace {
 
 const fs::path dir = fs::temp_directory_path() / ("fit_test_" + std::to_string(::getpid()));
 
-// The NIOSH STL as a merged PLY (meshio merges the STL's per-triangle vertices).
-std::string niosh_medium_ply() {
-  fs::create_directories(dir);
-  const std::string path = (dir / "medium.ply").string();
-  const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" +
-                          SHARED_DATA_DIR + "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + path +
-                          "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>/dev/null";
-  return std::system(cmd.c_str()) == 0 ? path : "";
-}
+std::string niosh_medium_ply() { return ::niosh_medium_ply(dir); }
 
 pipeline::SurfaceMesh segmented_medium() {
   pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(niosh_medium_ply());

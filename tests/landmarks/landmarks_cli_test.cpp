@@ -12,21 +12,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../niosh_medium_ply.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
 const fs::path dir = fs::temp_directory_path() / ("rf_landmarks_cli_" + std::to_string(::getpid()));
-// NIOSH medium is given in the head frame (y up, face toward +z, mm): no align needed. As a
-// merged PLY (meshio merges the STL's per-triangle vertices), as a previous stage writes it.
-std::string head_ply() {
-  fs::create_directories(dir);
-  const std::string path = (dir / "medium.ply").string();
-  const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + SHARED_DATA_DIR +
-                          "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + path +
-                          "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>/dev/null";
-  return std::system(cmd.c_str()) == 0 ? path : std::string("meshio-failed.ply");
-}
+// NIOSH medium is given in the head frame (y up, face toward +z, mm): no align needed.
 
 int run(const std::string& args) {
   fs::create_directories(dir);
@@ -74,7 +67,8 @@ TEST(landmarks_cli, missing_or_empty_head_file_exits_2_naming_it) {
 }
 
 TEST(landmarks_cli, malformed_user_file_exits_2_naming_it) {
-  const std::string head = head_ply();
+  const std::string head = niosh_medium_ply(dir);
+  ASSERT_FALSE(head.empty());
   const fs::path user = dir / "user.json";
   write(user, "{\"landmarks\": {\"sellion\": ");  // truncated JSON
   expect_bad_input("--in " + head + " --user " + user.string(), user.string());
@@ -84,7 +78,8 @@ TEST(landmarks_cli, malformed_user_file_exits_2_naming_it) {
 }
 
 TEST(landmarks_cli, user_file_replaces_detection) {
-  const std::string head = head_ply();
+  const std::string head = niosh_medium_ply(dir);
+  ASSERT_FALSE(head.empty());
   // Detect, move every point 0.5 mm along the face normal-ish +z, hand it back as the user's.
   ASSERT_EQ(run("--in " + head + " --out " + out()), 0);
   nlohmann::json detected = read_json(out());

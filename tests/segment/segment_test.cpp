@@ -14,6 +14,7 @@
 #include "layering/segment.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
+#include "../niosh_medium_ply.h"
 
 namespace fs = std::filesystem;
 
@@ -21,17 +22,10 @@ namespace {
 
 const std::string fixture = std::string(SOURCE_DIR) + "/tests/segment/niosh_medium_landmarks.json";
 
-// The NIOSH STL as a merged PLY (meshio merges the STL's per-triangle vertices).
+// Converted once per test binary.
 std::string niosh_medium_ply() {
-  static std::string path;
-  if (!path.empty()) return path;
-  const fs::path dir = fs::temp_directory_path() / ("segment_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  path = (dir / "medium.ply").string();
-  const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" +
-                          SHARED_DATA_DIR + "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + path +
-                          "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>/dev/null";
-  if (std::system(cmd.c_str()) != 0) path.clear();
+  static const std::string path =
+      ::niosh_medium_ply(fs::temp_directory_path() / ("segment_test_" + std::to_string(::getpid())));
   return path;
 }
 

@@ -1,0 +1,18 @@
+// Test helper: the NIOSH medium headform STL of the shared data as a merged ASCII PLY (meshio
+// merges the STL's per-triangle vertices), as a previous pipeline stage writes a head.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+/// Writes <dir>/medium.ply (dir created if needed) with /usr/bin/python3 + meshio.
+/// @return the path, or "" if the conversion failed
+inline std::string niosh_medium_ply(const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "medium.ply").string();
+  const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + SHARED_DATA_DIR +
+                          "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + path +
+                          "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>/dev/null";
+  return std::system(cmd.c_str()) == 0 ? path : std::string();
+}
