@@ -1,0 +1,150 @@
+// Makefile.cases as a build system: which stages run when, with stand-in stage programs that
+// only write their outputs and log their name, so the dependency graph is tested in seconds.
+// What is checked: the 30 cases share the chains of their heads and respirators; a swapped-in
+// scan runs in the case's own folder and re-runs even when the scan file is older; a rebuilt
+// stage program re-runs exactly its stage and those after it; a failed stage leaves no output;
+// nothing runs twice.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* const kStages[] = {"generate_scan", "reconstruct", "repair", "align", "landmarks", "segment",
+                               "fit", "surface_mesh", "layers", "straps", "assemble", "solve"};
+
+// A temporary BUILD folder whose bin/ holds stand-ins: each writes every file named after
+// --out/--report/--transform/--deck1/--deck2, appends "<stage> <first output>" to log.txt, and
+// exits 3 after writing when FAIL_STAGE names it (a stage that dies after a partial write).
+class CasesMake : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    build_ = fs::temp_directory_path() / ("cases_makefile_test_" + std::to_string(::getpid()) + "_" +
+                                          ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(build_);
+    fs::create_directories(build_ / "bin");
+    for (const char* s : kStages) {
+      const fs::path p = build_ / "bin" / s;
+      std::ofstream(p) << "#!/bin/sh\n"
+                          "first=''\n"
+                          "while [ $# -gt 0 ]; do\n"
+                          "  case \"$1\" in --out|--report|--transform|--deck1|--deck2)\n"
+                          "    mkdir -p \"$(dirname \"$2\")\"; echo \"$0 $*\" > \"$2\"; [ -n \"$first\" ] || first=\"$2\";;\n"
+                          "  esac; shift\n"
+                          "done\n"
+                          "echo \"$(basename \"$0\") $first\" >> " << (build_ / "log.txt").string() << "\n"
+                          "[ \"$FAIL_STAGE\" = \"$(basename \"$0\")\" ] && exit 3\n"
+                          "exit 0\n";
+      fs::permissions(p, fs::perms::owner_all);
+    }
+  }
+  void TearDown() override { fs::remove_all(build_); }
+
+  // Runs the case rules; returns make's exit status and the lines the stand-ins logged.
+  int make(const std::string& args, std::vector<std::string>* ran, const std::string& env = "") {
+    fs::remove(build_ / "log.txt");
+    const std::string cmd = env + " make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases BUILD=" +
+                            build_.string() + " " + args + " > " + (build_ / "make.out").string() + " 2>&1";
+    const int rc = std::system(cmd.c_str());
+    ran->clear();
+    std::ifstream log(build_ / "log.txt");
+    for (std::string line; std::getline(log, line);) ran->push_back(line);
+    return WEXITSTATUS(rc);
+  }
+  // How many logged lines are stage `stage` writing under `where` (a path fragment).
+  static int count(const std::vector<std::string>& ran, const std::string& stage, const std::string& where) {
+    int n = 0;
+    for (const auto& l : ran) n += l.rfind(stage + " ", 0) == 0 && l.find(where) != std::string::npos;
+    return n;
+  }
+  std::string log_text(const std::vector<std::string>& ran) {
+    std::ostringstream s;
+    for (const auto& l : ran) s << l << "\n";
+    std::ifstream out(build_ / "make.out");
+    s << "--- make:\n" << out.rdbuf();
+    return s.str();
+  }
+  fs::path build_;
+};
+
+TEST_F(CasesMake, cases_share_their_head_and_nothing_runs_twice) {
+  std::vector<std::string> ran;
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  EXPECT_EQ(count(ran, "reconstruct", "/heads/medium/"), 1) << log_text(ran);
+  EXPECT_EQ(count(ran, "reconstruct", "/respirators/onesize/"), 1);
+  EXPECT_EQ(count(ran, "assemble", "/cases/medium_onesize/model.msh"), 1);
+  EXPECT_EQ(ran.size(), 2u + 2 * 7 + 1 + 2) << log_text(ran);  // 2 scans, 2 chains of 7, landmarks, straps, assemble
+  EXPECT_TRUE(fs::is_symlink(build_ / "cases/medium_onesize/head"));
+  EXPECT_TRUE(fs::exists(build_ / "cases/medium_onesize/head/layers.msh"));
+
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+
+  // Another respirator on the same head: only its chain, its straps and its model.
+  ASSERT_EQ(make("case=medium_twosize-s", &ran), 0);
+  EXPECT_EQ(count(ran, "reconstruct", "/heads/"), 0) << log_text(ran);
+  EXPECT_EQ(count(ran, "landmarks", ""), 0);
+  EXPECT_EQ(count(ran, "layers", "/respirators/twosize-s/"), 1);
+  EXPECT_EQ(count(ran, "straps", "/cases/medium_twosize-s/"), 1);
+  EXPECT_EQ(ran.size(), 1u + 7 + 2) << log_text(ran);
+}
+
+TEST_F(CasesMake, a_swapped_in_scan_runs_in_the_case_folder_even_when_older) {
+  std::vector<std::string> ran;
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  const fs::path scan = build_ / "my_head.ply";
+  std::ofstream(scan) << "ply\n";
+  ASSERT_EQ(std::system(("touch -d 2000-01-01 " + scan.string()).c_str()), 0);  // older than every output
+
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0) << log_text(ran);
+  EXPECT_EQ(count(ran, "reconstruct", "/cases/medium_onesize/head/"), 1) << log_text(ran);
+  EXPECT_EQ(count(ran, "reconstruct", "/respirators/"), 0);
+  EXPECT_EQ(count(ran, "assemble", "/cases/medium_onesize/"), 1);
+  EXPECT_FALSE(fs::is_symlink(build_ / "cases/medium_onesize/head"));
+  EXPECT_TRUE(fs::exists(build_ / "heads/medium/layers.msh")) << "the shared head must be untouched";
+
+  // Back to the generated head: the shared chain is still current, so only straps and model.
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0);
+  EXPECT_TRUE(fs::is_symlink(build_ / "cases/medium_onesize/head"));
+  EXPECT_EQ(count(ran, "straps", ""), 1) << log_text(ran);
+  EXPECT_EQ(count(ran, "assemble", ""), 1);
+  EXPECT_EQ(ran.size(), 2u) << log_text(ran);
+}
+
+TEST_F(CasesMake, a_rebuilt_stage_reruns_itself_and_what_follows_and_a_failure_leaves_no_output) {
+  std::vector<std::string> ran;
+  ASSERT_EQ(make("case=small_onesize", &ran), 0) << log_text(ran);
+  ASSERT_EQ(std::system(("touch " + (build_ / "bin/fit").string()).c_str()), 0);
+  ASSERT_EQ(make("case=small_onesize", &ran), 0);
+  for (const char* s : {"fit", "surface_mesh", "layers"}) {
+    EXPECT_EQ(count(ran, s, "/heads/small/"), 1) << s << "\n" << log_text(ran);
+    EXPECT_EQ(count(ran, s, "/respirators/onesize/"), 1) << s;
+  }
+  for (const char* s : {"reconstruct", "repair", "align", "landmarks", "segment"}) EXPECT_EQ(count(ran, s, ""), 0) << s;
+  EXPECT_EQ(ran.size(), 3u * 2 + 2) << log_text(ran);
+
+  // layers dies after writing: make fails, and neither layers output nor anything after it is left.
+  ASSERT_EQ(std::system(("touch " + (build_ / "bin/layers").string()).c_str()), 0);
+  EXPECT_NE(make("case=small_onesize", &ran, "FAIL_STAGE=layers"), 0);
+  EXPECT_FALSE(fs::exists(build_ / "heads/small/layers.msh") && fs::exists(build_ / "respirators/onesize/layers.msh"))
+      << log_text(ran);
+  const bool head_failed = !fs::exists(build_ / "heads/small/layers.msh");
+  const fs::path failed = head_failed ? build_ / "heads/small" : build_ / "respirators/onesize";
+  EXPECT_FALSE(fs::exists(failed / "layers.msh"));
+  EXPECT_TRUE(fs::exists(failed / "surface.msh"));
+  EXPECT_EQ(count(ran, "straps", ""), 0);
+  // Fixed program: the next run completes the case.
+  ASSERT_EQ(make("case=small_onesize", &ran), 0) << log_text(ran);
+  EXPECT_TRUE(fs::exists(build_ / "cases/small_onesize/model.msh"));
+}
+
+}  // namespace
