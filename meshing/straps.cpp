@@ -217,7 +217,16 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
     for (const auto& p : head.nodes) zb = std::min(zb, p.z());
     const double f = (a.z() - tr.z()) / std::max(1e-9, a.z() - zb);  // fraction of the way to the back
     if (f > 0.05 && f < 1) top_y = std::max(top_y, (tr.y() + 35 - (1 - f) * a.y()) / f);
+    // That raise extrapolates from the attachments (f can be small), and a low attachment on a
+    // short head asked for y = 149 mm on NIOSH medium, above its crown: keep the back point at
+    // least 15 mm below the highest skin behind the ears in the sagittal band. If the strap then
+    // grazes an ear, the crossing fix below pushes it out.
+    double crown_y = -1e300;
+    for (const auto& p : head.nodes)
+      if (std::abs(p.x()) < 8 && p.z() < tr.z()) crown_y = std::max(crown_y, p.y());
+    if (crown_y > -1e299) top_y = std::min(top_y, crown_y - 15);
   }
+  r.top_back_y = top_y;
   r.top_length = lay_strap(head, skin, top, top_y, opt, "strap_top", &out);
   const int bottom_base = int(out.nodes.size());
   r.bottom_length = lay_strap(head, skin, bottom, lm.at("menton").y() - opt.bottom_below_menton_mm, opt, "strap_bottom", &out);

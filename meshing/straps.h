@@ -31,6 +31,7 @@ struct StrapReport {
   double min_gap = 0;                        ///< minimum signed distance of any strap node to the skin [mm]
   Eigen::Vector3d min_gap_at = Eigen::Vector3d::Zero();  ///< the strap node where min_gap is measured [mm]
   std::size_t quads = 0;
+  double top_back_y = 0;  ///< height of the top strap's point on the back of the head [mm]
 };
 
 /// Lays both straps. The strap plane passes through the two attachment points and a point on the

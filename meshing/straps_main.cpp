@@ -32,8 +32,8 @@ int main(int argc, char** argv) {
     const auto straps = meshing::make_straps(h, lm, r, opt, &rep);
     // 3. Write.
     layering::write_fe_model(straps, out);
-    std::printf("straps: %s: %zu quads, top %.1f mm, bottom %.1f mm, min distance to skin %.2f mm\n", out.c_str(),
-                rep.quads, rep.top_length, rep.bottom_length, rep.min_gap);
+    std::printf("straps: %s: %zu quads, top %.1f mm (y = %.1f mm at the back), bottom %.1f mm, min distance to skin %.2f mm\n",
+                out.c_str(), rep.quads, rep.top_length, rep.top_back_y, rep.bottom_length, rep.min_gap);
     return 0;
   });
 }

@@ -85,6 +85,26 @@ TEST(make_straps, straps_have_requested_length_and_stay_off_the_skin) {
   EXPECT_THROW(meshing::make_straps(s.head, s.lm, s.resp, too_long, nullptr), pipeline::Error);
 }
 
+// The top strap's back point is raised to clear the ears by extrapolating from the attachments;
+// with a low attachment that once asked for a point above the crown (NIOSH medium with the
+// generated one-size cup: y = 149 mm, "no skin at the back of the head"). Tragia raised by 40 mm
+// force the same extrapolation here: the strap must still be laid, below the crown and off the skin.
+TEST(make_straps, top_strap_stays_below_the_crown_when_the_ears_are_high) {
+  auto& s = scene();
+  auto lm = s.lm;
+  for (const char* t : {"tragion_left", "tragion_right"}) lm[t].y() += 40;
+  double crown_y = -1e300;
+  for (const auto& p : s.head.nodes)
+    if (std::abs(p.x()) < 8 && p.z() < lm.at("tragion_left").z()) crown_y = std::max(crown_y, p.y());
+  meshing::StrapReport rep;
+  ASSERT_NO_THROW(meshing::make_straps(s.head, lm, s.resp, {}, &rep));
+  std::printf("high ears: top strap back point y = %.1f mm, crown %.1f mm, min gap %.2f mm\n", rep.top_back_y, crown_y,
+              rep.min_gap);
+  EXPECT_LE(rep.top_back_y, crown_y - 15 + 1e-9);
+  EXPECT_GE(rep.min_gap, 1.0 - 1e-9);
+  EXPECT_NEAR(rep.top_length, 300.0, 6.0);
+}
+
 TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   auto& s = scene();
   const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
