@@ -78,26 +78,35 @@ def read_ply(path):
 def main():
     pts, faces, part = read_ply(sys.argv[1])
     tris = np.array([pts[f[:3]] for f in faces])
-    fig = plt.figure(figsize=(10, 6))
-    # Matplotlib 3D: view from +z (front) and +x (subject's left side); y up.
-    for k, (elev, azim, label) in enumerate([(0, 0, "front (+z)"), (0, 90, "left side (+x)")]):
-        ax = fig.add_subplot(1, 2, k + 1, projection="3d")
+    fig = plt.figure(figsize=(15, 6))
+    # Matplotlib 3D: view from +z (front), +x (subject's left side) and a close-up of the face
+    # parts from the front-left and a little below (shows the nose's sides and the cheek-nose
+    # fold, where the forehead part meets the cheeks); y up.
+    views = [(0, 0, "front (+z)", False), (0, 90, "left side (+x)", False),
+             (-15, 35, "face close-up (front-left, from below)", True)]
+    for k, (elev, azim, label, close_up) in enumerate(views):
+        ax = fig.add_subplot(1, 3, k + 1, projection="3d")
         # Plot with matplotlib axes (X=z, Y=x, Z=y) so that elev/azim give the wanted views.
         poly = tris[:, :, [2, 0, 1]]
         n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
         n /= np.linalg.norm(n, axis=1, keepdims=True) + 1e-12
-        view = np.array([0, 0, 1.0]) if k == 0 else np.array([1.0, 0, 0])
+        # Direction toward the viewer in the head frame (matplotlib X=z, Y=x, Z=y).
+        e, a = np.radians(elev), np.radians(azim)
+        view = np.array([np.cos(e) * np.sin(a), np.sin(e), np.cos(e) * np.cos(a)])
         shade = 0.35 + 0.65 * np.clip(n @ view, 0, 1)
         base = np.array([matplotlib.colors.to_rgb(COLOURS[p % 5]) for p in part])
         col = base * shade[:, None]
         coll = Poly3DCollection(poly, facecolors=col, edgecolors="none")
         ax.add_collection3d(coll)
-        lo, hi = pts.min(0), pts.max(0)
+        shown = pts
+        if close_up and (part > 0).any():
+            shown = tris[part > 0].reshape(-1, 3)
+        lo, hi = shown.min(0), shown.max(0)
         c, r = (lo + hi) / 2, (hi - lo).max() / 2
         ax.set_xlim(c[2] - r, c[2] + r); ax.set_ylim(c[0] - r, c[0] + r); ax.set_zlim(c[1] - r, c[1] + r)
         ax.view_init(elev=elev, azim=azim)
         ax.set_proj_type("ortho")
-        ax.set_box_aspect((1, 1, 1), zoom=1.5)
+        ax.set_box_aspect((1, 1, 1), zoom=1.0 if close_up else 1.5)
         ax.set_axis_off()
         ax.set_title(label)
     handles = [plt.Rectangle((0, 0), 1, 1, color=COLOURS[i]) for i in range(5)]

@@ -160,6 +160,13 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
   ny /= nn, nz /= nn;
   const double y_mouth = lm.menton[1] + 0.35 * face_length;
   const double blend_mm = 8.0;
+  // Nose (given to the forehead part): NIOSH medium's nose protrudes over |x| < 13 mm at the
+  // sellion and |x| < 20 mm at the alae, zygion breadth 142 mm.
+  const double zygion_breadth = lm.zygion_left[0] - lm.zygion_right[0];
+  const double nose_height = lm.sellion[1] - lm.pronasale[1];
+  const double nose_root_half_width = 0.09 * zygion_breadth, nose_ala_half_width = 0.145 * zygion_breadth;
+  const double y_subnasale = lm.pronasale[1] - 0.35 * nose_height;
+  const double nose_corner_mm = 3.0, nose_fillet_mm = 4.0;
 
   // 2. Fields (signed distance-like, mm); part = sign pattern.
   auto fface = mesh.add_property_map<pipeline::VertexIndex, double>("v:seg_face", 0).first;
@@ -173,8 +180,14 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
     const double above_jaw = -(ny * (y - py) + nz * (z - pz));
     const double below_top = y - y_top;
     fface[v] = smooth_max({in_front, above_jaw, below_top}, blend_mm);
-    const double w = 0.15 * face_length;
-    ffore[v] = y - (lm.sellion[1] - 0.15 * face_length - 0.05 * face_length * std::exp(-(x * x) / (w * w)));
+    // Forehead = upper-forehead band united with the nose. The nose's lateral edge is the
+    // cheek-nose fold, at a half-width growing from the nasal root to the alae; its lower edge
+    // lies just above the subnasale (not a landmark: 0.35 nose height below the pronasale).
+    const double band = y - (lm.sellion[1] - 0.15 * face_length);
+    const double t = std::clamp((lm.sellion[1] - y) / nose_height, 0.0, 1.0);
+    const double half_width = nose_root_half_width + t * (nose_ala_half_width - nose_root_half_width);
+    const double nose = -smooth_max({std::abs(x) - half_width, y_subnasale - y}, nose_corner_mm);
+    ffore[v] = smooth_max({band, nose}, nose_fillet_mm);
     fchin[v] = y - (y_mouth - (y_mouth - gy) * (x / gx) * (x / gx));
     fside[v] = x;
   }

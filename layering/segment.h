@@ -10,8 +10,14 @@
 ///   face region  = in front of a coronal plane just behind the zygia, above a plane through both
 ///                  gonia and a point under the chin (keeps the under-chin, drops the neck), below
 ///                  the upper forehead (sellion + 0.45 face length); corners rounded (radius 8 mm);
-///   forehead     = face region above a line 0.15 face length below the sellion that dips to
-///                  0.20 face length below it on the midline (the nasal bridge);
+///   forehead     = face region above a line 0.15 face length below the sellion (upper forehead,
+///                  eyes), united with the nose: the nasal bridge and the whole nose down to
+///                  0.35 nose length (sellion–pronasale height) below the pronasale, just above the
+///                  subnasale, between the cheek–nose folds at |x| = 0.09 zygion breadth at the
+///                  sellion widening linearly to 0.145 zygion breadth at the pronasale level (the
+///                  alae); nose corners rounded (3 mm), the nose–forehead junction filleted (4 mm).
+///                  The nose goes to the forehead's thin stack (skin 5 + bone 2 mm): an 18 mm cheek
+///                  stack does not fit under a ~20 mm wide nose;
 ///   chin         = face region below a parabola through the mouth level (menton + 0.35 face
 ///                  length) on the midline and the gonia laterally (includes the under-chin);
 ///   cheeks       = the rest of the face region, split by the sagittal plane x = 0.
@@ -27,7 +33,7 @@ using Vec3 = std::array<double, 3>;
 
 /// Landmarks in the head frame (x lateral, +x = subject's left; y up; z out of the face) [mm].
 struct HeadLandmarks {
-  Vec3 sellion{}, menton{};
+  Vec3 sellion{}, pronasale{}, menton{};
   Vec3 zygion_left{}, zygion_right{};
   Vec3 tragion_left{}, tragion_right{};
   Vec3 gonion_left{}, gonion_right{};

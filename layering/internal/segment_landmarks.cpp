@@ -40,6 +40,7 @@ HeadLandmarks read_segment_landmarks(const std::string& path) {
   const auto& lm = j["landmarks"];
   HeadLandmarks s;
   s.sellion = point(lm, path, "sellion");
+  s.pronasale = point(lm, path, "pronasale");
   s.menton = point(lm, path, "menton");
   s.zygion_left = point(lm, path, "zygion_left");
   s.zygion_right = point(lm, path, "zygion_right");
@@ -55,6 +56,9 @@ HeadLandmarks read_segment_landmarks(const std::string& path) {
     throw pipeline::bad_input(path, "menton y " + std::to_string(s.menton[1]) +
                                         " not at least 30 mm below sellion y " +
                                         std::to_string(s.sellion[1]) + ": is the head aligned (y up)?");
+  if (s.pronasale[1] >= s.sellion[1] || s.pronasale[1] <= s.menton[1])
+    throw pipeline::bad_input(path, "pronasale y " + std::to_string(s.pronasale[1]) +
+                                        " not between menton and sellion: are the landmarks swapped?");
   return s;
 }
 
