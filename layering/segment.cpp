@@ -165,7 +165,12 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
   const double zygion_breadth = lm.zygion_left[0] - lm.zygion_right[0];
   const double nose_height = lm.sellion[1] - lm.pronasale[1];
   const double nose_root_half_width = 0.09 * zygion_breadth, nose_ala_half_width = 0.145 * zygion_breadth;
-  const double y_subnasale = lm.pronasale[1] - 0.35 * nose_height;
+  // Lower edge: on the upper lip just below the subnasale on the midline (generated small head:
+  // subnasale 0.4 nose heights below the pronasale), dipping laterally to 0.70 at the fold, below
+  // the alar bases (0.55 nose heights below the pronasale, 10-14 mm off the midline): the whole underside of the nose, which faces down, goes to the
+  // forehead; an 18 mm cheek column pointing up into the nose from there made wedges that the
+  // layers fix loop had to thin.
+  const double y_subnasale = lm.pronasale[1] - 0.45 * nose_height;
   const double nose_corner_mm = 3.0, nose_fillet_mm = 4.0;
 
   // 2. Fields (signed distance-like, mm); part = sign pattern.
@@ -186,7 +191,9 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
     const double band = y - (lm.sellion[1] - 0.15 * face_length);
     const double t = std::clamp((lm.sellion[1] - y) / nose_height, 0.0, 1.0);
     const double half_width = nose_root_half_width + t * (nose_ala_half_width - nose_root_half_width);
-    const double nose = -smooth_max({std::abs(x) - half_width, y_subnasale - y}, nose_corner_mm);
+    const double lateral = std::min(1.0, (x * x) / (nose_ala_half_width * nose_ala_half_width));
+    const double y_nose_bottom = y_subnasale - 0.25 * nose_height * lateral;
+    const double nose = -smooth_max({std::abs(x) - half_width, y_nose_bottom - y}, nose_corner_mm);
     ffore[v] = smooth_max({band, nose}, nose_fillet_mm);
     fchin[v] = y - (y_mouth - (y_mouth - gy) * (x / gx) * (x / gx));
     fside[v] = x;

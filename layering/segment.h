@@ -11,9 +11,10 @@
 ///                  gonia and a point under the chin (keeps the under-chin, drops the neck), below
 ///                  the upper forehead (sellion + 0.45 face length); corners rounded (radius 8 mm);
 ///   forehead     = face region above a line 0.15 face length below the sellion (upper forehead,
-///                  eyes), united with the nose: the nasal bridge and the whole nose down to
-///                  0.35 nose length (sellion–pronasale height) below the pronasale, just above the
-///                  subnasale, between the cheek–nose folds at |x| = 0.09 zygion breadth at the
+///                  eyes), united with the nose: the nasal bridge and the whole nose, its underside
+///                  included, down to 0.45 nose height (sellion–pronasale) below the pronasale on
+///                  the midline, just below the subnasale, dipping to 0.70 nose height at the alae
+///                  (below the alar bases), between the cheek–nose folds at |x| = 0.09 zygion breadth at the
 ///                  sellion widening linearly to 0.145 zygion breadth at the pronasale level (the
 ///                  alae); nose corners rounded (3 mm), the nose–forehead junction filleted (4 mm).
 ///                  The nose goes to the forehead's thin stack (skin 5 + bone 2 mm): an 18 mm cheek
