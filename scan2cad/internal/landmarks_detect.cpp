@@ -2,8 +2,12 @@
 //
 // Why by hand: no library detects facial landmarks on a mesh. The geometry is simple and
 // written here: the midline profile is the mesh's section by x = 0; lateral landmarks are
-// "soft" extremes (area-weighted soft-argmax over face centroids), which stay put under
-// re-meshing where a single extreme vertex would jump. CGAL's AABB tree projects points.
+// "soft" extremes (area-weighted soft-argmax) over a dense sampling of the surface by a fixed
+// grid of parallel rays (CGAL AABB tree first-intersection queries), with soft (smoothstep)
+// windows. The ray grid depends on the head's other landmarks, never on its vertices, and every
+// window edge is a ramp, so the result is a smooth function of the surface: re-meshing the same
+// head moves it by the (sub-mm) change of the surface only. Extremes over face centroids with
+// hard windows jumped by up to 3.3 mm under re-meshing (tragion; gonion 1.9 mm).
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -13,6 +17,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <queue>
 
 #include "pipeline/error.h"
 #include "scan2cad/landmarks.h"
@@ -28,13 +33,9 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 
 Vector3d E(const pipeline::Point& p) { return {p.x(), p.y(), p.z()}; }
 
-struct Faces {  // one entry per triangle: centroid, outward unit normal, area
-  std::vector<Vector3d> c, n;
-  std::vector<double> a;
-};
-
-Faces face_data(const SurfaceMesh& m) {
-  Faces f;
+/// +1 if the mesh's faces are oriented outward (positive flux of (p − centre) through the
+/// surface), −1 if inward: ray hits need the outward normal.
+double outward_sign(const SurfaceMesh& m) {
   Vector3d centre = Vector3d::Zero();
   for (auto v : m.vertices()) centre += E(m.point(v));
   centre /= double(std::max<std::size_t>(1, m.number_of_vertices()));
@@ -42,41 +43,108 @@ Faces face_data(const SurfaceMesh& m) {
   for (auto fi : m.faces()) {
     auto h = m.halfedge(fi);
     const Vector3d p = E(m.point(m.source(h))), q = E(m.point(m.target(h))), r = E(m.point(m.target(m.next(h))));
-    const Vector3d cr = (q - p).cross(r - p);
-    const double area = 0.5 * cr.norm();
-    if (!(area > 0.0)) continue;
-    f.c.push_back((p + q + r) / 3.0);
-    f.n.push_back(cr.normalized());
-    f.a.push_back(area);
-    flux += (f.c.back() - centre).dot(f.n.back()) * area;
+    flux += ((p + q + r) / 3.0 - centre).dot(0.5 * (q - p).cross(r - p));
   }
-  if (flux < 0.0)  // inward-oriented mesh: flip so that normals point out of the head
-    for (auto& n : f.n) n = -n;
-  return f;
+  return flux < 0.0 ? -1.0 : 1.0;
 }
 
-/// Area-weighted soft-argmax of `score` over the faces that `keep` accepts: the weighted mean
-/// centroid with weights area·exp((score − max)/tau)·membership (membership in [0, 1], 1 if
-/// not given: a soft selection whose edge does not jump with the facets). Returns false if no
-/// face is kept.
-bool soft_argmax(const Faces& f, const std::function<bool(std::size_t)>& keep,
-                 const std::function<double(std::size_t)>& score, double tau, Vector3d& out, std::size_t* count = nullptr,
-                 const std::function<double(std::size_t)>& membership = nullptr) {
-  double top = -inf;
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < f.c.size(); ++i)
-    if (keep(i)) top = std::max(top, score(i)), ++k;
-  if (count) *count = k;
-  if (k == 0) return false;
-  Vector3d s = Vector3d::Zero();
-  double w = 0.0;
-  for (std::size_t i = 0; i < f.c.size(); ++i)
-    if (keep(i)) {
-      const double wi = f.a[i] * std::exp((score(i) - top) / tau) * (membership ? membership(i) : 1.0);
-      s += wi * f.c[i], w += wi;
+/// A point of the surface hit by one ray of a fixed grid: position, outward unit normal of the
+/// hit face, and the grid cell's area [mm²] (the area the sample stands for, projected
+/// across the rays: a fixed measure, so the weights do not follow the triangles).
+struct Sample {
+  Vector3d p, n;
+  double area;
+  int row, col;  // the ray's grid indices (i, j)
+};
+
+/// Casts the rays origin + i·step·u + j·step·v + t·dir (t > 0), 0 <= i < nu, 0 <= j < nv, and
+/// keeps each first hit where the ray enters the surface from outside (the hit face faces the
+/// ray); a ray starting inside the head exits first and is dropped.
+std::vector<Sample> cast_ray_grid(const Tree& tree, const SurfaceMesh& m, double outward, const Vector3d& origin,
+                                  const Vector3d& u, const Vector3d& v, double step, int nu, int nv,
+                                  const Vector3d& dir) {
+  std::vector<Sample> out;
+  const pipeline::Kernel::Vector_3 d(dir.x(), dir.y(), dir.z());
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const Vector3d o = origin + step * (double(i) * u + double(j) * v);
+      const auto hit = tree.first_intersection(pipeline::Kernel::Ray_3(pipeline::Point(o.x(), o.y(), o.z()), d));
+      if (!hit) continue;
+      const pipeline::Point* p = boost::get<pipeline::Point>(&hit->first);
+      if (!p) continue;  // ray lying in a face plane: no single point
+      auto h = m.halfedge(hit->second);
+      const Vector3d a = E(m.point(m.source(h))), b = E(m.point(m.target(h))), c = E(m.point(m.target(m.next(h))));
+      const Vector3d n = outward * (b - a).cross(c - a).normalized();
+      if (!n.allFinite() || n.dot(dir) >= 0.0) continue;
+      out.push_back({E(*p), n, step * step, i, j});
     }
-  if (!(w > 0.0)) return false;
-  out = s / w;
+  return out;
+}
+
+/// 0 for t <= 0, 1 for t >= 1, C¹ smoothstep between.
+double smoothstep01(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+/// Soft "value > edge": 0 at edge − ramp/2, 1 at edge + ramp/2. Windows are products of these,
+/// so a sample fades in and out instead of switching.
+double soft_above(double value, double edge, double ramp_mm = 4.0) { return smoothstep01((value - edge) / ramp_mm + 0.5); }
+double soft_below(double value, double edge, double ramp_mm = 4.0) { return soft_above(-value, -edge, ramp_mm); }
+
+/// On a grid of memberships m in [0, 1] (row-major, nrow × ncol), the best product of m along
+/// a 4-connected path from the seed cell to each cell (Dijkstra on −log m): a soft "connected
+/// to the seed" that is continuous in m (a max of products), unlike a thresholded flood fill.
+std::vector<double> joined_membership(const std::vector<double>& m, int nrow, int ncol, int seed_row, int seed_col) {
+  std::vector<double> cost(m.size(), inf);  // −log of the best product
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> todo;
+  const std::size_t seed = std::size_t(seed_row) * ncol + seed_col;
+  if (m[seed] > 0.0) cost[seed] = -std::log(m[seed]), todo.push({cost[seed], seed});
+  while (!todo.empty()) {
+    const auto [c, k] = todo.top();
+    todo.pop();
+    if (c > cost[k]) continue;
+    const int r = int(k / ncol), q = int(k % ncol);
+    const int nbr[4][2] = {{r - 1, q}, {r + 1, q}, {r, q - 1}, {r, q + 1}};
+    for (const auto& rc : nbr) {
+      if (rc[0] < 0 || rc[0] >= nrow || rc[1] < 0 || rc[1] >= ncol) continue;
+      const std::size_t j = std::size_t(rc[0]) * ncol + rc[1];
+      if (!(m[j] > 1e-12)) continue;
+      const double cj = c - std::log(m[j]);
+      if (cj < cost[j]) cost[j] = cj, todo.push({cj, j});
+    }
+  }
+  std::vector<double> out(m.size());
+  for (std::size_t k = 0; k < m.size(); ++k) out[k] = std::exp(-cost[k]);
+  return out;
+}
+
+/// Soft-argmax of `score` over the samples: their mean position with weights
+/// area·membership·exp((score − max)/tau), membership in [0, 1]. `support_mm2` (optional)
+/// gets Σ area·membership. Returns false if no sample has membership > 0.
+bool soft_argmax(const std::vector<Sample>& S, const std::function<double(const Sample&)>& membership,
+                 const std::function<double(const Sample&)>& score, double tau, Vector3d& out,
+                 double* support_mm2 = nullptr) {
+  std::vector<double> mu(S.size()), sc(S.size());
+  double top = -inf, support = 0.0;
+  for (std::size_t i = 0; i < S.size(); ++i) {
+    mu[i] = membership(S[i]);
+    if (!(mu[i] > 0.0)) continue;
+    sc[i] = score(S[i]);
+    top = std::max(top, sc[i]);  // only keeps exp() in range: it cancels in the mean
+    support += S[i].area * mu[i];
+  }
+  if (support_mm2) *support_mm2 = support;
+  if (!(support > 0.0)) return false;
+  Vector3d sum = Vector3d::Zero();
+  double wsum = 0.0;
+  for (std::size_t i = 0; i < S.size(); ++i)
+    if (mu[i] > 0.0) {
+      const double w = S[i].area * mu[i] * std::exp((sc[i] - top) / tau);
+      sum += w * S[i].p, wsum += w;
+    }
+  if (!(wsum > 0.0)) return false;
+  out = sum / wsum;
   return true;
 }
 
@@ -155,7 +223,6 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
   Landmarks L;
   Profile prof;
   const auto segs = midline(head, prof);
-  const Faces F = face_data(head);
 
   // 1. Pronasale: the highest point of the front profile (nose tip), parabola-refined.
   const std::size_t ip = prof.extreme(prof.y(0), prof.y(prof.z.size() - 1), +1);
@@ -196,63 +263,96 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
   const Vector2d men = men_sum / wsum;
   L.points["menton"] = at({0.0, men.x(), men.y()}, 0.8);
 
-  // 5. Each side (s = +1 left, −1 right).
+  // 5. Each side (s = +1 left, −1 right), on ray-grid samples of the surface (0.5 mm grid).
+  Tree tree(faces(head).first, faces(head).second, head);
+  tree.accelerate_distance_queries();
+  const double outward = outward_sign(head);
+  double x_reach = 0.0, y_low = inf;  // how far the head reaches sideways and down [mm]
+  for (auto v : head.vertices())
+    x_reach = std::max(x_reach, std::abs(head.point(v).x())), y_low = std::min(y_low, head.point(v).y());
+  constexpr double step_mm = 0.5;
+  const auto cells = [&](double lo, double hi) { return int(std::ceil((hi - lo) / step_mm)) + 1; };
+  const Vector3d ex(1, 0, 0), ey(0, 1, 0), ez(0, 0, 1);
   for (int s : {+1, -1}) {
     const std::string side = s > 0 ? "_left" : "_right";
-    // Tragion: the ear sticks out of the side of the head 80–190 mm behind the nose tip. Ear
-    // = faces within 10 mm of the most lateral point there; tragion = its front edge
-    // (soft-max z) at the ear's mean height.
-    auto ear_window = [&](std::size_t i) {
-      const Vector3d& c = F.c[i];
-      return s * c.x() > 20 && c.y() > prn.x() - 40 && c.y() < sel.x() + 25 && c.z() < prn.y() - 80 &&
-             c.z() > prn.y() - 190;
+    // The side of the head seen from that side: rays toward the midline on a (y, z) grid
+    // covering the ear and cheek windows below (with their ramps).
+    const double y0 = prn.x() - 45.0, y1 = sel.x() + 30.0, z0 = prn.y() - 195.0, z1 = prn.y() - 35.0;
+    const auto lateral = cast_ray_grid(tree, head, outward, Vector3d(s * (x_reach + 10.0), y0, z0), ey, ez, step_mm,
+                                       cells(y0, y1), cells(z0, z1), Vector3d(-s, 0, 0));
+    // Tragion: the ear sticks out of the side of the head 80–190 mm behind the nose tip; its
+    // most lateral part there (soft-max x) gives xe.
+    const auto ear_window = [&](const Sample& q) {
+      const Vector3d& c = q.p;
+      return soft_above(s * c.x(), 20) * soft_above(c.y(), prn.x() - 40) * soft_below(c.y(), sel.x() + 25) *
+             soft_below(c.z(), prn.y() - 80) * soft_above(c.z(), prn.y() - 190);
     };
     Vector3d ear_out;
-    if (!soft_argmax(F, ear_window, [&](std::size_t i) { return s * F.c[i].x(); }, 1.0, ear_out))
+    if (!soft_argmax(lateral, ear_window, [&](const Sample& q) { return s * q.p.x(); }, 1.0, ear_out))
       throw pipeline::algorithm_failed("head", "no ear region on side " + side.substr(1));
     const double xe = s * ear_out.x();
+    // Ear = the side within 10 mm of xe AND joined to the ear's most lateral part: membership
+    // = the best product of the soft "x > xe − 10" along any grid path from that part (see
+    // joined_membership), so the temple or cheek of a wide face, as lateral as the ear's rim
+    // minus 10 mm (NIOSH large) but cut off from the ear by the groove in front of it, is left
+    // out, while the ear's own folds (concha, scapha) are gone around.
+    const int nrow = cells(y0, y1), ncol = cells(z0, z1);
+    std::vector<double> stands_out(std::size_t(nrow) * std::size_t(ncol), 0.0);  // 0 where no hit
+    for (const Sample& q : lateral)
+      stands_out[std::size_t(q.row) * ncol + q.col] = ear_window(q) * soft_above(s * q.p.x(), xe - 10.0);
+    const int core_row = std::clamp(int(std::lround((ear_out.y() - y0) / step_mm)), 0, nrow - 1);
+    const int core_col = std::clamp(int(std::lround((ear_out.z() - z0) / step_mm)), 0, ncol - 1);
+    const auto joined = joined_membership(stands_out, nrow, ncol, core_row, core_col);
+    const auto ear = [&](const Sample& q) { return joined[std::size_t(q.row) * ncol + q.col]; };
     double ym = 0.0, am = 0.0;
-    for (std::size_t i = 0; i < F.c.size(); ++i)
-      if (ear_window(i) && s * F.c[i].x() > xe - 10) ym += F.a[i] * F.c[i].y(), am += F.a[i];
+    for (const Sample& q : lateral) ym += q.area * ear(q) * q.p.y(), am += q.area * ear(q);
+    if (!(am > 0.0)) throw pipeline::algorithm_failed("head", "no ear on side " + side.substr(1));
     ym /= am;
-    Vector3d tr;
-    soft_argmax(F, [&](std::size_t i) { return ear_window(i) && s * F.c[i].x() > xe - 10 && std::abs(F.c[i].y() - ym) < 8; },
-                [&](std::size_t i) { return F.c[i].z(); }, 1.5, tr);
+    // Seen from the side the ear is a "C" open to the front (the concha and tragus stand out
+    // less than 10 mm); tragion is at the front end of its upper arm, where the helix meets the
+    // face: the front-most point (soft-max z) of the ear above its mean height.
+    Vector3d tr, ear_low;
+    soft_argmax(lateral, [&](const Sample& q) { return ear(q) * soft_above(q.p.y(), ym, 8.0); },
+                [&](const Sample& q) { return q.p.z(); }, 1.5, tr);
+    soft_argmax(lateral, ear, [&](const Sample& q) { return -q.p.y(); }, 1.0, ear_low);  // lobe bottom
     // Zygion: most lateral point of the face in front of the ear, at cheekbone height
     // (0–40 mm below the sellion), behind the eyes (≥ 40 mm behind the nose tip).
     Vector3d zy;
-    std::size_t nz = 0;
-    if (!soft_argmax(F, [&](std::size_t i) {
-          const Vector3d& c = F.c[i];
-          return s * c.x() > 20 && c.y() < sel.x() && c.y() > sel.x() - 40 && c.z() > tr.z() + 15 && c.z() < prn.y() - 40;
-        }, [&](std::size_t i) { return s * F.c[i].x(); }, 1.0, zy, &nz))
+    if (!soft_argmax(lateral, [&](const Sample& q) {
+          const Vector3d& c = q.p;
+          return soft_above(s * c.x(), 20) * soft_below(c.y(), sel.x()) * soft_above(c.y(), sel.x() - 40) *
+                 soft_above(c.z(), tr.z() + 15) * soft_below(c.z(), prn.y() - 40);
+        }, [&](const Sample& q) { return s * q.p.x(); }, 1.0, zy))
       throw pipeline::algorithm_failed("head", "no cheek region on side " + side.substr(1));
     // Gonion: jaw angle = the up-and-back corner of the down-facing underside of the jaw, off
-    // the midline, 15 mm or more below the nose tip (below the ear lobe) and in front of the ear.
-    // "Down-facing" is a soft membership (0 at n_y = -0.3, 1 at n_y = -0.7, smoothstep): the
-    // corner sits where the underside turns to the neck, where a hard n_y cut decides the
-    // point facet by facet (still 1.06 mm on gonion_right under re-meshing, against 1 mm).
+    // the midline, in front of the ear, and below and medial of the ear lobe: 15 mm or more
+    // below the nose tip and 5 mm below the lobe (NIOSH large's lobe hangs lower than that),
+    // 15 mm or more inside the ear's rim. The underside is seen from below: rays straight up on
+    // an (x, z) grid starting under the whole head (those under the neck meet its bottom, far
+    // outside the window). "Down-facing" is a soft membership (0 at n_y = −0.3, 1 at −0.7).
+    // On the NIOSH heads the corner runs up to the height cap, so gonion's height is set by
+    // the (soft) cap there rather than by a local extreme of the jaw.
+    const double jaw_top_y = std::min(prn.x() - 15.0, ear_low.y() - 5.0);
+    const double gx0 = 23.0, gx1 = x_reach + 2.0, gz0 = tr.z() - 9.0, gz1 = men.y() + 2.0;
+    const double gy0 = std::min(y_low, men.x() - 25.0) - 10.0;
+    const auto under = cast_ray_grid(tree, head, outward, Vector3d(s * gx0, gy0, gz0), s * ex, ez, step_mm,
+                                     cells(gx0, gx1), cells(gz0, gz1), ey);
     Vector3d go;
-    std::size_t ng = 0;
-    const auto down_facing = [&](std::size_t i) {
-      const double t = std::clamp((-F.n[i].y() - 0.3) / 0.4, 0.0, 1.0);
-      return t * t * (3.0 - 2.0 * t);
-    };
-    if (!soft_argmax(F, [&](std::size_t i) {
-          const Vector3d& c = F.c[i];
-          return F.n[i].y() < -0.3 && s * c.x() > 25 && c.y() > men.x() - 20 && c.y() < prn.x() - 15 &&
-                 c.z() > tr.z() - 5 && c.z() < men.y();
-        }, [&](std::size_t i) { return (F.c[i].y() - F.c[i].z()) / std::sqrt(2.0); }, 3.0, go, &ng, down_facing))
+    double jaw_mm2 = 0.0;
+    if (!soft_argmax(under, [&](const Sample& q) {
+          const Vector3d& c = q.p;
+          return smoothstep01((-q.n.y() - 0.3) / 0.4) * soft_above(s * c.x(), 25) * soft_below(s * c.x(), xe - 15.0) *
+                 soft_above(c.y(), men.x() - 20) * soft_below(c.y(), jaw_top_y) * soft_above(c.z(), tr.z() - 5) *
+                 soft_below(c.z(), men.y());
+        }, [&](const Sample& q) { return (q.p.y() - q.p.z()) / std::sqrt(2.0); }, 3.0, go, &jaw_mm2))
       throw pipeline::algorithm_failed("head", "no jaw underside on side " + side.substr(1));
     const double ear_prominence = xe - s * zy.x();  // how far the ear sticks out [mm]
     L.points["tragion" + side] = at(tr, 0.3 + ear_prominence / 20.0);
     L.points["zygion" + side] = at(zy, 0.8);
-    L.points["gonion" + side] = at(go, ng >= 20 ? 0.6 : 0.3);
+    L.points["gonion" + side] = at(go, jaw_mm2 >= 100.0 ? 0.6 : 0.3);
   }
 
   // 6. Lateral points onto the surface; confidence drops with left/right mismatch.
-  Tree tree(faces(head).first, faces(head).second, head);
-  tree.accelerate_distance_queries();
   for (auto& [name, p] : L.points) {
     p.position = E(tree.closest_point(pipeline::Point(p.position.x(), p.position.y(), p.position.z())));
     if (name.find("_left") != std::string::npos) {

@@ -3,6 +3,7 @@
 
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -48,39 +49,40 @@ TEST(detect_landmarks, niosh_face_length_and_width_are_anthropometric) {
   }
 }
 
-// Re-meshing the same head (CGAL isotropic remeshing, 2 mm edges, vs the ~3 mm of the file)
-// must move every detected landmark by <= 1 mm (issue requirement).
-std::map<std::string, double> moves_under_remeshing() {
-  auto head = aligned_head("NIOSH_medium_20k.stl");
+// Re-meshing the same head must move every detected landmark by <= 1 mm (issue 3). Each NIOSH
+// head (~3 mm edges in the file) is re-meshed three ways with CGAL isotropic remeshing: finer
+// (1.5 mm and 2 mm edges) and about as coarse as the file (3 mm: same density, other vertices).
+// The largest displacement over the three, per landmark, is what is asserted.
+std::map<std::string, double> max_moves_under_remeshing(const char* file) {
+  const auto head = aligned_head(file);
   const auto before = scan2cad::detect_landmarks(head);
-  CGAL::Polygon_mesh_processing::isotropic_remeshing(faces(head), 2.0, head,
-                                                     CGAL::parameters::number_of_iterations(3));
-  head.collect_garbage();
-  const auto after = scan2cad::detect_landmarks(head);
-  std::map<std::string, double> moved;
-  for (const auto& [name, p] : before.points) {
-    moved[name] = (p.position - after.points.at(name).position).norm();
-    std::printf("%s moved %.2f mm\n", name.c_str(), moved[name]);
+  std::map<std::string, double> worst;
+  for (const double edge_mm : {1.5, 2.0, 3.0}) {
+    auto remeshed = head;
+    CGAL::Polygon_mesh_processing::isotropic_remeshing(faces(remeshed), edge_mm, remeshed,
+                                                       CGAL::parameters::number_of_iterations(3));
+    remeshed.collect_garbage();
+    const auto after = scan2cad::detect_landmarks(remeshed);
+    for (const auto& [name, p] : before.points) {
+      const double d = (p.position - after.points.at(name).position).norm();
+      worst[name] = std::max(worst[name], d);
+      std::printf("%s, remeshed at %.1f mm (%zu faces): %s moved %.2f mm\n", file, edge_mm,
+                  std::size_t(remeshed.number_of_faces()), name.c_str(), d);
+    }
   }
-  return moved;
+  return worst;
 }
 
-TEST(detect_landmarks, stable_under_remeshing_except_gonion) {
-  for (const auto& [name, d] : moves_under_remeshing())
-    if (name.rfind("gonion", 0) != 0) {
-      EXPECT_LE(d, 1.0) << name;
+TEST(detect_landmarks, every_landmark_stable_under_remeshing) {
+  for (const char* file : {"NIOSH_medium_20k.stl", "NIOSH_large_20k.stl"}) {
+    const auto worst = max_moves_under_remeshing(file);
+    EXPECT_EQ(worst.size(), scan2cad::required_landmarks().size());
+    for (const auto& name : scan2cad::required_landmarks()) {
+      ASSERT_TRUE(worst.count(name)) << name;
+      std::printf("%s: %s max move %.2f mm\n", file, name.c_str(), worst.at(name));
+      EXPECT_LE(worst.at(name), 1.0) << file << " " << name;
     }
-}
-
-// DISABLED (issue 3, open): gonion_right moves 1.06 mm (gonion_left 0.12 mm) under this
-// re-meshing, even with the soft down-facing membership; a wider soft-max (tau 5 mm) made it
-// worse (2.97 mm), so the jump comes from the hard window around the jaw corner, not from the
-// face selection. Run with --gtest_also_run_disabled_tests.
-TEST(detect_landmarks, DISABLED_gonion_stable_under_remeshing) {
-  for (const auto& [name, d] : moves_under_remeshing())
-    if (name.rfind("gonion", 0) == 0) {
-      EXPECT_LE(d, 1.0) << name;
-    }
+  }
 }
 
 TEST(read_landmarks, rejects_a_left_point_on_the_right) {
