@@ -8,6 +8,7 @@
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/boost/graph/Euler_operations.h>
 #include <gmsh.h>
 
 #include <algorithm>
@@ -35,6 +36,24 @@ std::vector<pipeline::Kernel::Triangle_3> part_triangles(const SurfaceMesh& m, i
       out.emplace_back(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
     }
   return out;
+}
+
+// One constrained isotropic remeshing pass over the faces `selected` picks: `constrained` edges
+// are split and collapsed along, never cut across or moved off; `patch` keeps every patch's
+// outline (a face's patch is never changed). Used by remesh_parts (patch = part) and fit_parts
+// (patch = 2 part + refined).
+void remesh_selected(SurfaceMesh& mesh, const std::function<bool(pipeline::FaceIndex)>& selected, double edge_mm,
+                     int iterations, SurfaceMesh::Property_map<pipeline::FaceIndex, int> patch,
+                     SurfaceMesh::Property_map<SurfaceMesh::Edge_index, bool> constrained) {
+  std::vector<pipeline::FaceIndex> faces;
+  for (auto f : mesh.faces())
+    if (selected(f)) faces.push_back(f);
+  PMP::isotropic_remeshing(faces, edge_mm, mesh,
+                           CGAL::parameters::number_of_iterations(iterations)
+                               .edge_is_constrained_map(constrained)
+                               .face_patch_map(patch)
+                               .relax_constraints(true));
+  mesh.collect_garbage();
 }
 
 }  // namespace
@@ -106,20 +125,10 @@ SurfaceMesh remesh_parts(const SurfaceMesh& input, const std::string& kind, doub
     // edges may be collapsed by the back pass; the last pass re-splits them to the face size and
     // relaxes the face-side triangles the collapses distorted. (Protecting the cut instead leaves
     // gamma ~0.2 triangles on the back side.)
-    auto remesh_where = [&](auto keep, double edge, int iterations) {
-      mark();
-      std::vector<pipeline::FaceIndex> sel;
-      for (auto f : mesh.faces())
-        if (keep(part[f])) sel.push_back(f);
-      PMP::isotropic_remeshing(sel, edge, mesh,
-                               CGAL::parameters::number_of_iterations(iterations)
-                                   .edge_is_constrained_map(constrained)
-                                   .face_patch_map(part)
-                                   .relax_constraints(true));
-      mesh.collect_garbage();
-    };
-    remesh_where([](int l) { return l == 0; }, back_edge_mm, 3);
-    remesh_where([](int l) { return l != 0; }, edge_mm, 3);
+    mark();
+    remesh_selected(mesh, [&](pipeline::FaceIndex f) { return part[f] == 0; }, back_edge_mm, 3, part, constrained);
+    mark();
+    remesh_selected(mesh, [&](pipeline::FaceIndex f) { return part[f] != 0; }, edge_mm, 3, part, constrained);
   }
   mesh.remove_property_map(constrained);
   return mesh;
@@ -157,15 +166,8 @@ SurfaceMesh fit_parts(const SurfaceMesh& input, const std::string& kind, double 
   auto remesh_where = [&](SurfaceMesh& mesh, bool fine_region, double edge, int iterations) {
     auto patch = mesh.property_map<pipeline::FaceIndex, int>("f:fit_patch").first;
     auto constrained = mesh.property_map<SurfaceMesh::Edge_index, bool>("e:fit_constrained").first;
-    std::vector<pipeline::FaceIndex> sel;
-    for (auto f : mesh.faces())
-      if ((patch[f] % 2 == 1) == fine_region) sel.push_back(f);
-    PMP::isotropic_remeshing(sel, edge, mesh,
-                             CGAL::parameters::number_of_iterations(iterations)
-                                 .edge_is_constrained_map(constrained)
-                                 .face_patch_map(patch)
-                                 .relax_constraints(true));
-    mesh.collect_garbage();
+    remesh_selected(mesh, [&](pipeline::FaceIndex f) { return (patch[f] % 2 == 1) == fine_region; }, edge, iterations,
+                    patch, constrained);
   };
   auto finish = [&](SurfaceMesh& mesh) {
     auto part = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
@@ -254,19 +256,98 @@ double triangle_gamma(const pipeline::Point& p0, const pipeline::Point& p1, cons
   return 2 * r / R;
 }
 
+namespace {
+
+pipeline::Vector unit_normal(const pipeline::Point& a, const pipeline::Point& b, const pipeline::Point& c) {
+  const pipeline::Vector n = CGAL::cross_product(b - a, c - a);
+  const double l = std::sqrt(n.squared_length());
+  return l > 0 ? n / l : n;
+}
+
+// Within 20 deg of coplanar: flips and collapses are only made where they keep the surface.
+const double coplanar_cos = std::cos(20.0 * M_PI / 180.0);
+
+// A border edge, or an edge between two parts.
+bool is_cut(const SurfaceMesh& mesh, SurfaceMesh::Property_map<pipeline::FaceIndex, int> part,
+            SurfaceMesh::Edge_index e) {
+  const auto h = mesh.halfedge(e);
+  return mesh.is_border(e) || part[mesh.face(h)] != part[mesh.face(mesh.opposite(h))];
+}
+
+// Collapses `free_vertex` into its neighbour `kept` if that is a valid collapse (CGAL's link
+// condition) and raises the worst triangle around `free_vertex` without turning any remaining
+// triangle by more than 20 deg. `kept` stays where it is.
+bool collapse_if_better(SurfaceMesh& mesh, pipeline::VertexIndex free_vertex, pipeline::VertexIndex kept) {
+  const auto to_kept = mesh.halfedge(free_vertex, kept);
+  if (to_kept == SurfaceMesh::null_halfedge() || !CGAL::Euler::does_satisfy_link_condition(mesh.edge(to_kept), mesh))
+    return false;
+  const pipeline::Point kept_at = mesh.point(kept);
+  double worst_before = 1, worst_after = 1;
+  for (auto h : CGAL::halfedges_around_target(mesh.halfedge(free_vertex), mesh)) {
+    if (mesh.is_border(h)) return false;  // free vertices are interior; guard anyway
+    // The face of h is (source(h), free_vertex, w) in its orientation.
+    const auto u = mesh.source(h), w = mesh.target(mesh.next(h));
+    const auto &pu = mesh.point(u), &pv = mesh.point(free_vertex), &pw = mesh.point(w);
+    worst_before = std::min(worst_before, triangle_gamma(pu, pv, pw));
+    if (u == kept || w == kept) continue;  // the two faces at the collapsed edge disappear
+    const double g = triangle_gamma(pu, kept_at, pw);
+    if (unit_normal(pu, kept_at, pw) * unit_normal(pu, pv, pw) < coplanar_cos) return false;
+    worst_after = std::min(worst_after, g);
+  }
+  if (!(worst_after > worst_before)) return false;
+  const auto moved = CGAL::Euler::collapse_edge(mesh.edge(to_kept), mesh);
+  // collapse_edge keeps the target of the edge's first halfedge, which may be free_vertex's
+  // index: the kept vertex (whichever index it has) goes where `kept` was.
+  mesh.point(moved) = kept_at;
+  return true;
+}
+
+}  // namespace
+
+std::size_t collapse_slivers_at_cuts(SurfaceMesh& mesh, double below_gamma) {
+  const auto part = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  // Why by hand: CGAL's isotropic remeshing never collapses into a constrained polyline's
+  // vertices in a way that removes such a sliver (its long edge is constrained, so no flip
+  // either), and angle smoothing cannot pull a vertex out of a 180 deg corner: the vertex sits
+  // between the two border vertices on a straight border edge (gamma 0.047 on the twosize-m
+  // respirator rim). Collapsing it into the nearer end of that edge keeps the border as it is.
+  std::vector<pipeline::FaceIndex> slivers;
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    if (triangle_gamma(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)), mesh.point(mesh.target(mesh.next(h)))) <
+        below_gamma)
+      slivers.push_back(f);
+  }
+  std::size_t collapsed = 0;
+  for (auto f : slivers) {
+    if (mesh.is_removed(f)) continue;
+    for (auto h : CGAL::halfedges_around_face(mesh.halfedge(f), mesh)) {
+      if (!is_cut(mesh, part, mesh.edge(h))) continue;
+      const auto a = mesh.source(h), b = mesh.target(h), v = mesh.target(mesh.next(h));
+      bool free = true;  // on no cut: every face around it in one part, none on the border
+      for (auto hv : CGAL::halfedges_around_target(mesh.halfedge(v), mesh))
+        free = free && !is_cut(mesh, part, mesh.edge(hv));
+      if (!free) continue;
+      const bool a_nearer =
+          CGAL::squared_distance(mesh.point(v), mesh.point(a)) <= CGAL::squared_distance(mesh.point(v), mesh.point(b));
+      if (collapse_if_better(mesh, v, a_nearer ? a : b) || collapse_if_better(mesh, v, a_nearer ? b : a)) {
+        ++collapsed;
+        break;  // f is gone
+      }
+    }
+  }
+  if (collapsed) mesh.collect_garbage();
+  return collapsed;
+}
+
 std::size_t improve_triangles(SurfaceMesh& mesh, int rounds) {
   const auto part = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  // First the slivers no flip or smoothing can lift (see collapse_slivers_at_cuts); the gamma
+  // bound is the quality surface_mesh requires.
+  collapse_slivers_at_cuts(mesh, 0.3);
   auto cut = mesh.add_property_map<SurfaceMesh::Edge_index, bool>("e:improve_cut", false).first;
-  for (auto e : mesh.edges()) {
-    const auto h = mesh.halfedge(e);
-    cut[e] = mesh.is_border(e) || part[mesh.face(h)] != part[mesh.face(mesh.opposite(h))];
-  }
-  const auto normal = [](const pipeline::Point& a, const pipeline::Point& b, const pipeline::Point& c) {
-    const pipeline::Vector n = CGAL::cross_product(b - a, c - a);
-    const double l = std::sqrt(n.squared_length());
-    return l > 0 ? n / l : n;
-  };
-  const double coplanar_cos = std::cos(20.0 * M_PI / 180.0);
+  for (auto e : mesh.edges()) cut[e] = is_cut(mesh, part, e);
+  const auto normal = unit_normal;
   std::size_t flipped = 0;
   for (int round = 0; round < rounds; ++round) {
     // Quality-driven flips, written here because CGAL's Delaunay flipper (inside

@@ -55,8 +55,18 @@ pipeline::SurfaceMesh remesh_parts(const pipeline::SurfaceMesh& segmented, const
 pipeline::SurfaceMesh fit_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind, double edge_mm,
                                 double refine_above_mm = 0.5, std::size_t* refined_faces = nullptr);
 
-/// Raises the worst triangles of a remeshed, part-labelled mesh: rounds of quality-driven edge
-/// flips inside each part (an edge is flipped when that raises the smaller gamma of its two
+/// Removes slivers that sit on a cut (a border or part-boundary edge): for every triangle with
+/// gamma < `below_gamma` that has a cut edge, its vertex opposite that edge, if it lies on no cut
+/// itself (an interior vertex of one part, e.g. almost on a straight rim edge between two rim
+/// vertices), is collapsed into the nearer end of the cut edge (else the other end), if CGAL's
+/// link condition holds, the worst triangle around the vertex gets better and no remaining
+/// triangle turns by more than 20 deg. Cut vertices never move, so borders and part boundaries
+/// keep their vertices and shape; faces keep their "f:part". Garbage is collected.
+/// @return the number of vertices collapsed
+std::size_t collapse_slivers_at_cuts(pipeline::SurfaceMesh& mesh, double below_gamma);
+
+/// Raises the worst triangles of a remeshed, part-labelled mesh: first collapse_slivers_at_cuts
+/// (gamma < 0.3), then rounds of quality-driven edge flips inside each part (an edge is flipped when that raises the smaller gamma of its two
 /// triangles and the two are within 20 deg of coplanar) followed by CGAL angle smoothing of the
 /// free vertices (PMP::angle_and_area_smoothing, angle term only, moves projected back onto the
 /// surface as it was). Part cuts and borders are neither flipped nor moved.
