@@ -147,7 +147,12 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
   const double face_length = lm.sellion[1] - lm.menton[1];
   const double z_zyg = 0.5 * (lm.zygion_left[2] + lm.zygion_right[2]);
   const double z_tra = 0.5 * (lm.tragion_left[2] + lm.tragion_right[2]);
-  const double z_lateral = z_zyg - 0.3 * (z_zyg - z_tra);  // coronal cut just behind the zygia
+  // Coronal cut just behind the zygia, but at least a quarter of the sellion-tragion depth in
+  // front of the tragia: the zygion's depth is poorly defined (NIOSH medium: hand-picked 17 mm,
+  // detected 31 mm in front of the tragion), and a cheek reaching the ear root (tragus, pinna)
+  // gets its 18 mm columns capped where they converge (NIOSH medium, hand-picked landmarks, 4 mm
+  // surface: cheek groups -8 ... -16 % of mid-area x t, all of it within 17 mm of the tragion).
+  const double z_lateral = std::max(z_zyg - 0.3 * (z_zyg - z_tra), z_tra + 0.25 * (lm.sellion[2] - z_tra));
   const double y_top = lm.sellion[1] + 0.45 * face_length;  // upper forehead
   const double gy = 0.5 * (lm.gonion_left[1] + lm.gonion_right[1]);
   const double gz = 0.5 * (lm.gonion_left[2] + lm.gonion_right[2]);

@@ -7,7 +7,8 @@
 /// The parts are cut along zero level sets of smooth fields built from the landmarks (planes
 /// blended with a smooth maximum, a parabola, the sagittal plane), so part boundaries are smooth
 /// curves across the triangles, not staircases along mesh edges:
-///   face region  = in front of a coronal plane just behind the zygia, above a plane through both
+///   face region  = in front of a coronal plane just behind the zygia (but at least 0.25 of the
+///                  sellion–tragion depth in front of the tragia), above a plane through both
 ///                  gonia and a point under the chin (keeps the under-chin, drops the neck), below
 ///                  the upper forehead (sellion + 0.45 face length); corners rounded (radius 8 mm);
 ///   forehead     = face region above a line 0.15 face length below the sellion (upper forehead,
