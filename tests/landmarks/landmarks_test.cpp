@@ -4,6 +4,7 @@
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -41,6 +42,19 @@ TEST(detect_landmarks, niosh_face_length_and_width_are_anthropometric) {
       const auto& b = l.points.at(std::string(p) + "_right").position;
       EXPECT_GT(a.x(), 0.0) << p;
       EXPECT_LT((a - Eigen::Vector3d(-b.x(), b.y(), b.z())).norm(), 3.0) << name << " " << p;
+    }
+    // Lateral order, each side: the jaw angle well below the ear (tragion) and above the chin
+    // (menton), inside the ear's width, behind the cheekbone (zygion); the zygion in front of
+    // the ear.
+    for (const char* side : {"_left", "_right"}) {
+      const auto& go = l.points.at(std::string("gonion") + side).position;
+      const auto& tr = l.points.at(std::string("tragion") + side).position;
+      const auto& zy = l.points.at(std::string("zygion") + side).position;
+      EXPECT_LT(go.y(), tr.y() - 30.0) << name << side;
+      EXPECT_GT(go.y(), l.points.at("menton").position.y()) << name << side;
+      EXPECT_LT(std::abs(go.x()), std::abs(tr.x())) << name << side;
+      EXPECT_LT(go.z(), zy.z()) << name << side;
+      EXPECT_GT(zy.z(), tr.z() + 10.0) << name << side;
     }
     // Order along the midline: sellion above pronasale above menton; nose tip most forward.
     EXPECT_GT(l.points.at("sellion").position.y(), l.points.at("pronasale").position.y());
