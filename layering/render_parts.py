@@ -79,11 +79,11 @@ def main():
     pts, faces, part = read_ply(sys.argv[1])
     tris = np.array([pts[f[:3]] for f in faces])
     fig = plt.figure(figsize=(15, 6))
-    # Matplotlib 3D: view from +z (front), +x (subject's left side) and a close-up of the face
+    # Matplotlib 3D: view from +z (front), +x (subject's left side) and a view framing the face
     # parts from the front-left and a little below (shows the nose's sides and the cheek-nose
     # fold, where the forehead part meets the cheeks); y up.
     views = [(0, 0, "front (+z)", False), (0, 90, "left side (+x)", False),
-             (-15, 35, "face close-up (front-left, from below)", True)]
+             (-15, 35, "face (front-left, from below)", True)]
     for k, (elev, azim, label, close_up) in enumerate(views):
         ax = fig.add_subplot(1, 3, k + 1, projection="3d")
         # Plot with matplotlib axes (X=z, Y=x, Z=y) so that elev/azim give the wanted views.

@@ -2,7 +2,8 @@
 Usage: python3 summarize_layers_reports.py <label>=<layers_report.json> ...
 Columns: wedges, shell triangles, min scaled Jacobian, min wedge volume [mm3], intersecting face
 pairs, thinned columns, and per part x layer the range of volume / (mid-depth offset area x t) - 1,
-of volume / (skin area x t) - 1, and of the same ratio over full-depth triangles only."""
+of volume / (skin area x t) - 1, and of the same ratio over full-depth triangles only; then, per
+head, the range of volume / (mid-depth offset area x t) - 1 over each part's layers."""
 import json
 import sys
 
@@ -20,3 +21,9 @@ for arg in sys.argv[1:]:
         label, d["wedges"], d["shell_triangles"], d["min_scaled_jacobian"], d["min_volume_mm3"],
         d["intersecting_face_pairs"], d["reduced_columns"], 100 * min(mid), 100 * max(mid), 100 * min(skin),
         100 * max(skin), 100 * min(full), 100 * max(full), ", ".join(beyond) or "none"))
+    parts = {}
+    for x, m in zip(v, mid):
+        part = x["group"].rsplit("_", 1)[0]
+        parts.setdefault(part, []).append(m)
+    print("%-20s per part V/(mid-A t)-1: %s" % ("", ", ".join(
+        "%s %+.1f..%+.1f %%" % (p, 100 * min(m), 100 * max(m)) for p, m in parts.items())))
