@@ -19,7 +19,8 @@
 int main(int argc, char** argv) {
   std::string mesh_path, method_name = "auto", out_prefix;
   int points = 1000000, seed = 7;
-  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1;
+  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1;
+  int density_points = -1;
   scan2cad::RepairOptions ropt;
   pipeline::Cli cli("bench_scan2cad", "Times reconstruct + repair on a simulated scan of a mesh.");
   cli.option("-m", "--mesh", &mesh_path, "reference surface (STL/PLY/OFF/OBJ)", pipeline::required);
@@ -30,6 +31,8 @@ int main(int argc, char** argv) {
   cli.option("-c", "--cell", &cell, "grid simplification cell [mm] (-1: default)", -1, 50);
   cli.option("-C", "--denoised-cell", &denoised_cell, "grid cell after smoothing [mm] (-1: default)", -1, 50);
   cli.option("-d", "--poisson-distance", &pdist, "Poisson accuracy [mm] (-1: default)", -1, 10);
+  cli.option("-D", "--density-reference", &density_points, "thin denser scans to a scan of this many points, 0 = none (-1: default)", -1, 2000000000);
+  cli.option("-T", "--cg-tolerance", &cg_tol, "Poisson CG relative tolerance (-1: default)", -1, 1);
   cli.option("-e", "--edge", &ropt.target_edge_mm, "repair target edge [mm]", 0, 50);
   cli.option("-s", "--smooth", &ropt.smoothing_iterations, "repair smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &ropt.smoothing_time, "repair smoothing time step", 1e-9, 1);
@@ -54,6 +57,8 @@ int main(int argc, char** argv) {
     if (cell >= 0) opt.simplify_cell_mm = cell;
     if (denoised_cell >= 0) opt.denoised_cell_mm = denoised_cell;
     if (pdist > 0) opt.poisson_distance_mm = pdist;
+    if (density_points >= 0) opt.density_reference_points = std::size_t(density_points);
+    if (cg_tol > 0) opt.poisson_solver_tolerance = cg_tol;
     auto t0 = clock::now();
     scan2cad::ReconstructStats rs;
     const auto rec = scan2cad::reconstruct(cloud, scan2cad::ScanKind::head, opt, &rs);
@@ -68,6 +73,8 @@ int main(int argc, char** argv) {
     scan2cad::RepairReport rr;
     const auto out = scan2cad::repair(soup, scan2cad::ScanKind::head, ropt, &rr);
     const double t_rep = secs(t0);
+    for (const auto& s : rs.step_times)
+      std::printf("step %-70s %7.1f s wall %7.1f s CPU\n", s.step.c_str(), s.wall_s, s.cpu_s);
     // 3. Quality
     if (!out_prefix.empty()) {
       pipeline::write_surface_mesh(out_prefix + "_reconstructed.ply", rec);

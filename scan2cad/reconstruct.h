@@ -15,6 +15,7 @@
 /// smoothed (step 4 then replaces step 3); the result is an open sheet whose border is the rim.
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "pipeline/surface_mesh.h"
 #include "scan2cad/scan_kind.h"
@@ -38,6 +39,16 @@ struct ReconstructOptions {
   /// grid simplification cell [mm] applied before reconstruction (0 = none); dense scans are
   /// thinned to this spacing, which bounds time and memory; default 0.8 mm
   double simplify_cell_mm = 0.8;
+  /// density cap (0 = none): a scan of more points is cut, before everything else, to a seeded
+  /// random subset of this many (a scan of the same surface at a lower density), so the cost of
+  /// the k-NN steps and Poisson no longer grows with the scanner's density. Default 250,000:
+  /// above the acceptance scans (200,000 surface points + 1 % outliers), whose accuracy is
+  /// measured (tests/scan2cad/head_acceptance_test.cpp) and which it leaves untouched.
+  /// Not applied to thin-shell respirator scans (both sides of the wall must stay resolved).
+  std::size_t density_reference_points = 250000;
+  /// Poisson: relative residual at which the conjugate-gradient solve stops (CGAL's default is
+  /// Eigen's, machine epsilon: CG iterates far below what the contouring can use); default 1e-6
+  double poisson_solver_tolerance = 1e-6;
   /// grid cell [mm] applied again after jet smoothing, when the points lie on the surface
   /// (0 = none); bounds the cost of normals and Poisson by the surface area. Default 0 (off):
   /// at 0.8 mm it thinned the NIOSH large ears away (acceptance test, 200k points: p95
@@ -63,6 +74,15 @@ struct ReconstructStats {
   double wall_mm = 0;
   std::size_t outer_side_points = 0;  ///< thin shell: points of the outer side, left out
   std::size_t vertices = 0, faces = 0;
+  /// points left after step 1 (density cap and grid)
+  std::size_t points_after_thinning = 0;
+  /// wall and process-CPU seconds of each step, in order (the CPU time counts all threads of
+  /// the process, so it is only the step's own when nothing else runs in the process)
+  struct StepTime {
+    std::string step;
+    double wall_s = 0, cpu_s = 0;
+  };
+  std::vector<StepTime> step_times;
 };
 
 /// Reconstructs a triangle mesh from `cloud`.

@@ -26,7 +26,12 @@ int main(int argc, char** argv) {
   cli.option("-c", "--cell", &opt.simplify_cell_mm, "grid simplification cell [mm], 0 = none", 0.0, 50.0);
   cli.option("-C", "--denoised-cell", &opt.denoised_cell_mm, "grid cell after smoothing [mm], 0 = none (faster on dense scans, loses thin ears)", 0.0, 50.0);
   cli.option("-d", "--poisson-distance", &opt.poisson_distance_mm, "Poisson contouring accuracy [mm]", 1e-3, 10.0);
+  int density_points = int(opt.density_reference_points);
+  cli.option("-D", "--density-reference", &density_points,
+             "heads: thin a denser scan to the grid density of a scan of this many points, 0 = none", 0, 2000000000);
+  cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
+    opt.density_reference_points = std::size_t(density_points);
     // 1. Options
     const auto kind = kind_unit.kind();
     opt.method = scan2cad::parse_reconstruct_method(method_name, kind);
