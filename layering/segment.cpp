@@ -171,12 +171,16 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
   const double nose_height = lm.sellion[1] - lm.pronasale[1];
   const double nose_root_half_width = 0.09 * zygion_breadth, nose_ala_half_width = 0.145 * zygion_breadth;
   // Lower edge: on the upper lip just below the subnasale on the midline (generated small head:
-  // subnasale 0.4 nose heights below the pronasale), dipping laterally to 0.70 at the fold, below
+  // subnasale 0.4 nose heights below the pronasale), dipping laterally to 0.75 at the fold, below
   // the alar bases (0.55 nose heights below the pronasale, 10-14 mm off the midline): the whole underside of the nose, which faces down, goes to the
   // forehead; an 18 mm cheek column pointing up into the nose from there made wedges that the
-  // layers fix loop had to thin.
-  const double y_subnasale = lm.pronasale[1] - 0.45 * nose_height;
-  const double nose_corner_mm = 3.0, nose_fillet_mm = 4.0;
+  // layers fix loop had to thin. (0.45 instead of 0.5 left the upper lip beside the subnasale to
+  // the cheeks once the corners were rounded by 6 mm: small head left cheek -5.5 %.)
+  const double y_subnasale = lm.pronasale[1] - 0.5 * nose_height;
+  // Lower corners rounded with 6 mm: with 3 mm the corner beside the ala (interior angle ~55 deg
+  // with the dipping lower edge) was tighter than fit's 2 mm boundary edges follow, and the fitted
+  // part boundary cut it by up to 1.3 mm (generated small head).
+  const double nose_corner_mm = 6.0, nose_fillet_mm = 4.0;
 
   // 2. Fields (signed distance-like, mm); part = sign pattern.
   auto fface = mesh.add_property_map<pipeline::VertexIndex, double>("v:seg_face", 0).first;

@@ -13,11 +13,11 @@
 ///                  the upper forehead (sellion + 0.45 face length); corners rounded (radius 8 mm);
 ///   forehead     = face region above a line 0.15 face length below the sellion (upper forehead,
 ///                  eyes), united with the nose: the nasal bridge and the whole nose, its underside
-///                  included, down to 0.45 nose height (sellion–pronasale) below the pronasale on
-///                  the midline, just below the subnasale, dipping to 0.70 nose height at the alae
+///                  included, down to 0.5 nose height (sellion–pronasale) below the pronasale on
+///                  the midline, just below the subnasale, dipping to 0.75 nose height at the alae
 ///                  (below the alar bases), between the cheek–nose folds at |x| = 0.09 zygion breadth at the
 ///                  sellion widening linearly to 0.145 zygion breadth at the pronasale level (the
-///                  alae); nose corners rounded (3 mm), the nose–forehead junction filleted (4 mm).
+///                  alae); nose corners rounded (6 mm), the nose–forehead junction filleted (4 mm).
 ///                  The nose goes to the forehead's thin stack (skin 5 + bone 2 mm): an 18 mm cheek
 ///                  stack does not fit under a ~20 mm wide nose;
 ///   chin         = face region below a parabola through the mouth level (menton + 0.35 face
