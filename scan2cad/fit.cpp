@@ -336,6 +336,30 @@ std::size_t collapse_slivers_at_cuts(SurfaceMesh& mesh, double below_gamma) {
       }
     }
   }
+  // A flat ear on the rim: a border vertex with a single triangle, lying (almost) on the segment
+  // between its two border neighbours (gamma 0.000 on the twosize-m rim: edges 1.51 / 1.51 /
+  // 3.02 mm, collinear). Removing that triangle makes the segment the border; the rim moves by
+  // the ear's height, allowed up to 2 % of the segment.
+  for (auto v : mesh.vertices()) {
+    if (mesh.is_removed(v) || !mesh.is_border(v) || mesh.degree(v) != 2) continue;
+    auto h = mesh.halfedge(v);  // with v on the border: the border halfedge into v
+    if (!mesh.is_border(h)) h = mesh.opposite(mesh.next(h));
+    const auto inner = mesh.opposite(h);  // v -> next border vertex, inside the ear
+    // (an isolated triangle, whose base is on the border too, is left alone)
+    if (mesh.is_border(inner) || mesh.is_border(mesh.opposite(mesh.next(inner)))) continue;
+    const auto f = mesh.face(inner);
+    const auto &pa = mesh.point(mesh.source(inner)), &pb = mesh.point(mesh.target(inner)),
+               &pc = mesh.point(mesh.target(mesh.next(inner)));
+    if (!(triangle_gamma(pa, pb, pc) < below_gamma)) continue;
+    const pipeline::Point& far_a = pb;  // the ear's base runs between v's two neighbours
+    const pipeline::Point& far_b = pc;
+    const double base = std::sqrt(CGAL::squared_distance(far_a, far_b));
+    const double height = std::sqrt(CGAL::squared_distance(pa, pipeline::Kernel::Line_3(far_a, far_b)));
+    const double along = (pa - far_a) * (far_b - far_a) / (base * base);  // v's place along the base
+    if (!(height <= 0.02 * base) || !(along > 0 && along < 1)) continue;
+    CGAL::Euler::remove_face(mesh.halfedge(f), mesh);  // also removes v, now isolated
+    ++collapsed;
+  }
   if (collapsed) mesh.collect_garbage();
   return collapsed;
 }

@@ -61,8 +61,11 @@ pipeline::SurfaceMesh fit_parts(const pipeline::SurfaceMesh& segmented, const st
 /// vertices), is collapsed into the nearer end of the cut edge (else the other end), if CGAL's
 /// link condition holds, the worst triangle around the vertex gets better and no remaining
 /// triangle turns by more than 20 deg. Cut vertices never move, so borders and part boundaries
-/// keep their vertices and shape; faces keep their "f:part". Garbage is collected.
-/// @return the number of vertices collapsed
+/// keep their vertices and shape; faces keep their "f:part". Then every flat ear on the border
+/// (a border vertex with one triangle, gamma < `below_gamma`, lying within 2 % of the base
+/// length from the segment between its two neighbours and between them) loses its triangle:
+/// the base becomes the border. Garbage is collected.
+/// @return the number of vertices removed (collapsed or ear tips)
 std::size_t collapse_slivers_at_cuts(pipeline::SurfaceMesh& mesh, double below_gamma);
 
 /// Raises the worst triangles of a remeshed, part-labelled mesh: first collapse_slivers_at_cuts

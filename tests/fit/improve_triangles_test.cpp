@@ -11,6 +11,8 @@
 #include <tuple>
 #include <vector>
 
+#include <CGAL/boost/graph/Euler_operations.h>
+
 #include "pipeline/surface_mesh.h"
 #include "scan2cad/fit.h"
 
@@ -143,6 +145,49 @@ TEST(collapse_slivers_at_cuts, leaves_a_sliver_whose_far_vertex_lies_on_a_cut) {
   ASSERT_TRUE(mesh.is_border(v));
   EXPECT_EQ(scan2cad::collapse_slivers_at_cuts(mesh, 0.3), 0u);
   EXPECT_EQ(mesh.number_of_faces(), 2u);
+}
+
+// A 3 x 3 vertex grid of 3.02 mm right triangles with an ear under its bottom (rim) edge from
+// (0,0) to (3.02,0): one triangle to a rim vertex at (1.51, -ear_height_mm).
+SurfaceMesh rim_with_ear(double ear_height_mm) {
+  SurfaceMesh mesh;
+  auto part = mesh.add_property_map<pipeline::FaceIndex, int>(pipeline::part_property, 0).first;
+  std::vector<pipeline::VertexIndex> v;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) v.push_back(mesh.add_vertex(Point(i * 3.02, j * 3.02, 0)));
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      part[mesh.add_face(v[j * 3 + i], v[j * 3 + i + 1], v[(j + 1) * 3 + i + 1])] = 0;
+      part[mesh.add_face(v[j * 3 + i], v[(j + 1) * 3 + i + 1], v[(j + 1) * 3 + i])] = 0;
+    }
+  const auto tip = mesh.add_vertex(Point(1.51, -ear_height_mm, 0));
+  const auto ear = mesh.add_face(v[1], v[0], tip);
+  EXPECT_NE(ear, SurfaceMesh::null_face());
+  part[ear] = 0;
+  return mesh;
+}
+
+TEST(collapse_slivers_at_cuts, removes_a_flat_ear_on_the_rim_and_keeps_a_pointed_one) {
+  // The other form of the twosize-m rim sliver (gamma 0.000, edges 1.51 / 1.51 / 3.02 mm): a rim
+  // vertex with a single triangle, on the segment between its two rim neighbours.
+  SurfaceMesh flat = rim_with_ear(0);
+  ASSERT_LT(min_gamma(flat), 1e-6);
+  EXPECT_EQ(scan2cad::collapse_slivers_at_cuts(flat, 0.3), 1u);
+  EXPECT_TRUE(flat.is_valid(false));
+  EXPECT_EQ(flat.number_of_vertices(), 9u);
+  EXPECT_EQ(flat.number_of_faces(), 8u);
+  EXPECT_GT(min_gamma(flat), 0.8);
+  // The border is now the grid's own (the tip lay on it).
+  SurfaceMesh reference = rim_with_ear(0);
+  CGAL::Euler::remove_face(reference.halfedge(*std::prev(reference.faces().end())), reference);
+  reference.collect_garbage();
+  EXPECT_EQ(cut_segments(flat), cut_segments(reference));
+
+  // An ear 0.5 mm deep (gamma 0.19, > 2 % of its 3.02 mm base) is part of the rim's shape: kept.
+  SurfaceMesh pointed = rim_with_ear(0.5);
+  ASSERT_LT(min_gamma(pointed), 0.3);
+  EXPECT_EQ(scan2cad::collapse_slivers_at_cuts(pointed, 0.3), 0u);
+  EXPECT_EQ(pointed.number_of_faces(), 9u);
 }
 
 }  // namespace
