@@ -328,8 +328,7 @@ std::size_t collapse_slivers_at_cuts(SurfaceMesh& mesh, double below_gamma) {
       if (g1 == SurfaceMesh::null_face() || g2 == SurfaceMesh::null_face() || g3 == SurfaceMesh::null_face()) continue;
       const int q = part[g1];
       if (q == part[f] || part[g2] != q || part[g3] != part[f]) continue;  // h, next(h) on the cut to q
-      const auto v = mesh.target(h);
-      int p_faces = 0;
+      int p_faces = 0;  // faces of part[f] around the vertex between the two cut edges (target of h)
       for (auto g : CGAL::faces_around_target(h, mesh)) p_faces += g != SurfaceMesh::null_face() && part[g] == part[f];
       if (p_faces != 1) continue;
       part[f] = q;
