@@ -1,5 +1,6 @@
 // The align program on bad input: one clear error line, the documented exit code, no output.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -10,7 +11,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path dir = fs::temp_directory_path() / "rf_align_cli";
+// One folder per process: ctest runs this binary's tests as parallel processes, and a shared
+// folder let one test read the other's stderr (repair_cli failed on reconstruct_cli's message).
+const fs::path dir = fs::temp_directory_path() / ("rf_align_cli_" + std::to_string(::getpid()));
 
 int run(const std::string& args) {
   fs::create_directories(dir);

@@ -1,11 +1,13 @@
 // CLI tests of the reconstruct and repair programs: bad inputs (one clear line, non-zero exit,
 // no output), units, and the real NIOSH medium STL through repair.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
 #include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
@@ -18,7 +20,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path dir = fs::temp_directory_path() / "rf_scan2cad_cli";
+// One folder per process: ctest runs this binary's tests as parallel processes, and a shared
+// folder let one test read the other's stderr (repair_cli failed on reconstruct_cli's message).
+const fs::path dir = fs::temp_directory_path() / ("rf_scan2cad_cli_" + std::to_string(::getpid()));
 const std::string niosh_medium = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
 
 struct CliRun {
