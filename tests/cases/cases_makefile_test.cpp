@@ -115,6 +115,7 @@ TEST_F(CasesMake, a_swapped_in_scan_runs_in_the_case_folder_even_when_older) {
   // Back to the generated head: the shared chain is still current, so only straps and model.
   ASSERT_EQ(make("case=medium_onesize", &ran), 0);
   EXPECT_TRUE(fs::is_symlink(build_ / "cases/medium_onesize/head"));
+  EXPECT_TRUE(fs::exists(build_ / "cases/medium_onesize/head.previous/layers.msh")) << "own-scan results kept";
   EXPECT_EQ(count(ran, "straps", ""), 1) << log_text(ran);
   EXPECT_EQ(count(ran, "assemble", ""), 1);
   EXPECT_EQ(ran.size(), 2u) << log_text(ran);
