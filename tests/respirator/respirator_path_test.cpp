@@ -145,12 +145,12 @@ TEST_P(GeneratedCup, align_segment_fit_surface_mesh_layers) {
   EXPECT_EQ(fitted_stats.euler, 1);
   EXPECT_EQ(fitted_stats.boundary_loops, 1);
 
-  // surface_mesh (the CLI's default 7 mm), written as msh and read back by meshio.
+  // surface_mesh (the CLI's default size), written as msh and read back by meshio.
   fs::create_directories(dir);
   const std::string msh = (dir / (id + "_surface.msh")).string();
   gmsh::initialize();
   gmsh::option::setNumber("General.Terminal", 0);
-  const auto parts = meshing::surface_mesh(fitted, "respirator", 7.0, 0.0);
+  const auto parts = meshing::surface_mesh(fitted, "respirator", meshing::default_size_mm, 0.0);
   gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
   gmsh::write(msh);
   gmsh::finalize();

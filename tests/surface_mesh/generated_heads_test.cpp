@@ -89,12 +89,12 @@ TEST_P(GeneratedHead, aligned_segmented_fitted_and_meshed_within_the_requirement
     EXPECT_LE(d.max_mm, 1.0);
   }
 
-  // 5. Surface mesh at the CLI defaults (7 mm); the written file opens in gmsh and meshio.
+  // 5. Surface mesh at the CLI defaults (6.4 mm face, 7 mm back); the written file opens in gmsh and meshio.
   gmsh::initialize();
   gmsh::option::setNumber("General.Terminal", 0);
   std::size_t face_triangles = 0, triangles = 0;
   try {
-    for (const auto& p : meshing::surface_mesh(fitted, "head", 7.0, 7.0, 0.0)) {
+    for (const auto& p : meshing::surface_mesh(fitted, "head", meshing::default_size_mm, meshing::default_back_size_mm, 0.0)) {
       SCOPED_TRACE(p.name);
       std::printf("%s: mesh %-12s %5zu triangles gamma min %.3f mean %.3f\n", id.c_str(), p.name.c_str(), p.triangles,
                   p.min_gamma, p.mean_gamma);
