@@ -32,13 +32,6 @@ double triangle_quality(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
   return q * 2.0 / std::sqrt(3.0);
 }
 
-// Limits the jump of the depth scale between neighbours so a thinned spot tapers off smoothly.
-void limit_gradient(const std::vector<std::vector<int>>& nbr, const std::vector<int>& skin, std::vector<double>& s) {
-  for (int pass = 0; pass < 8; ++pass)
-    for (int i : skin)
-      for (int j : nbr[i]) s[i] = std::min(s[i], s[j] + 0.15);
-}
-
 std::vector<std::vector<int>> neighbours(const Input& in) {
   std::vector<std::set<int>> n(in.nodes.size());
   for (const PartTris& p : in.parts)
@@ -63,6 +56,23 @@ double Columns::min_scale() const {
   double m = 1;
   for (int i : skin) m = std::min(m, scale[i]);
   return m;
+}
+
+void limit_depth_gradient(const std::vector<std::vector<int>>& nbr, const std::vector<Eigen::Vector3d>& x,
+                          Columns& c) {
+  // Iterated to a fixed point (each pass only lowers scales, and every cap is >= the smallest
+  // scale, so it terminates); the bound only guards against a bug.
+  for (int pass = 0; pass < 10000; ++pass) {
+    bool changed = false;
+    for (int i : c.skin)
+      for (int j : nbr[i]) {
+        const double depth = std::min(c.levels[c.max_level[i]], c.levels[c.max_level[j]]);
+        if (depth <= 0) continue;
+        const double cap = c.scale[j] + kMaxDepthSlope * (x[i] - x[j]).norm() / depth;
+        if (c.scale[i] > cap + 1e-12) c.scale[i] = cap, changed = true;
+      }
+    if (!changed) return;
+  }
 }
 
 Columns make_columns(Input& in, const LayerOptions& opt) {
@@ -192,7 +202,7 @@ Columns make_columns(Input& in, const LayerOptions& opt) {
       c.scale[i] = std::min(c.scale[i], t_half / depth_i);
     }
   }
-  limit_gradient(nbr, c.skin, c.scale);
+  limit_depth_gradient(nbr, x, c);
   return c;
 }
 
@@ -285,7 +295,7 @@ void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline:
         }
       }
     }
-    limit_gradient(nbr, c.skin, c.scale);
+    limit_depth_gradient(nbr, x, c);
   }
   throw pipeline::algorithm_failed("layers", "wedges still inverted, distorted or intersecting after " +
                                                  std::to_string(opt.max_fix_iterations) + " thinning passes");

@@ -42,6 +42,23 @@ struct Columns {
   double min_scale() const;
 };
 
+/// Largest depth slope between neighbouring columns [mm of depth per mm along the skin] after a
+/// column was thinned. 0.6 (31°): the old limit, 0.15 of the scale per edge, was 0.39-0.42 for the
+/// cheeks' 18 mm at 6.4-7 mm edges and spread each thinned spot over ~4 edges (~28 mm) of every
+/// part, the forehead's 7 mm columns under the nose included, costing the shortwide head's left
+/// cheek 5.1 % of its volume (6.4 mm surface). 0.8 keeps a little more volume but the deep wedges
+/// at the taper reach min scaled Jacobian 0.204 (large head), too close to 0.2.
+inline constexpr double kMaxDepthSlope = 0.6;
+
+/// Lowers column scales until, along every skin edge (i, j), the depths of the two columns at the
+/// deepest level both use, min(D_i, D_j) with D = levels[max_level], differ by at most
+/// kMaxDepthSlope × the edge length: a thinned spot tapers off over the same width in mm at any
+/// mesh size, and a shallow neighbour (a 7 mm forehead column beside an 18 mm cheek column) is
+/// dragged down less than a deep one, whose deep wedges the same scale jump would shear more.
+/// `nbr`: skin-edge neighbours of each node; `x`: skin node positions.
+void limit_depth_gradient(const std::vector<std::vector<int>>& nbr, const std::vector<Eigen::Vector3d>& x,
+                          Columns& c);
+
 /// Orients every triangle so its normal points away from the offset side (head: away from the
 /// centroid; respirator: toward −z, the face), then computes directions, levels and ray caps.
 Columns make_columns(Input& in, const LayerOptions& opt);
