@@ -13,6 +13,9 @@
 #include <CGAL/Advancing_front_surface_reconstruction.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/property_map.h>
+#include <boost/iterator/counting_iterator.hpp>
 #include <CGAL/IO/PLY.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -183,6 +186,101 @@ void orient_like_normals(SurfaceMesh& mesh, const std::vector<Point>& pts, const
     if (it != normal_of.end()) vote += PMP::compute_vertex_normal(v, mesh) * it->second;
   }
   if (vote < 0) PMP::reverse_face_orientations(mesh);
+}
+
+// Moves every vertex of a Poisson mesh onto the surface the denoised points describe near it.
+// Poisson approximates: its implicit function is smooth over a few point spacings, so thin or
+// sharply curved features (ear rims, the nostrils, under the nose tip) come out rounded by
+// 1-3 mm although the denoised points lie on them. Each vertex is moved along its normal to a
+// weighted least-squares quadric (height over the vertex's tangent plane, Gaussian weights) of
+// its k nearest denoised points whose oriented normals agree with the vertex normal (within
+// 60 deg): on an ear the points of the other side have the opposite normal and are left out, so
+// the fit never straddles the ear. A vertex is left in place where the fit is not supported:
+// fewer than 6 agreeing points, the nearest one farther than 2 point spacings (a scan hole,
+// which Poisson filled), or a move above `max_move_mm` (the fit extrapolates). All vertices move
+// at once (from the same mesh), then the mesh is used as Poisson's was. CGAL projects points onto
+// jets of the same point set (jet_smooth_point_set) but has no projection of one set (the mesh
+// vertices) onto another (the points), hence written here; it is an MLS-style projection.
+struct ProjectionStats {
+  std::size_t vertices = 0, moved = 0, unsupported = 0;
+  double mean_move_mm = 0, max_move_mm = 0;
+};
+ProjectionStats project_onto_points(SurfaceMesh& mesh, const std::vector<PN>& pn, unsigned k, double spacing_mm,
+                                    double max_move_mm) {
+  using TraitsBase = CGAL::Search_traits_3<pipeline::Kernel>;
+  using PointPmap = CGAL::Pointer_property_map<Point>::type;
+  using Traits = CGAL::Search_traits_adapter<std::size_t, PointPmap, TraitsBase>;
+  using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
+  ProjectionStats ps;
+  ps.vertices = mesh.number_of_vertices();
+  if (pn.size() < k || mesh.is_empty()) return ps;
+  std::vector<Point> pts(pn.size());
+  for (std::size_t i = 0; i < pn.size(); ++i) pts[i] = pn[i].first;
+  const PointPmap ppmap = CGAL::make_property_map(pts);
+  const Search::Tree tree(boost::counting_iterator<std::size_t>(0), boost::counting_iterator<std::size_t>(pts.size()),
+                          Search::Tree::Splitter(), Traits(ppmap));
+  const Search::Distance distance(ppmap);
+  std::vector<Vector> vnormal(mesh.number_of_vertices(), Vector(0, 0, 0));
+  for (auto v : mesh.vertices())
+    if (!mesh.is_isolated(v)) vnormal[std::size_t(v)] = PMP::compute_vertex_normal(v, mesh);
+  // The points' MST orientation is consistent but may be globally inward: one vote fixes the sign.
+  double vote = 0;
+  for (auto v : mesh.vertices()) {
+    const Search nearest(tree, mesh.point(v), 1, 0, true, distance);
+    vote += vnormal[std::size_t(v)] * pn[nearest.begin()->first].second;
+  }
+  const double sign = vote < 0 ? -1.0 : 1.0;
+  std::vector<Point> moved(mesh.number_of_vertices());
+  double sum_move = 0;
+  std::vector<Eigen::Vector3d> local;
+  std::vector<double> weight;
+  for (auto v : mesh.vertices()) {
+    const Point p = mesh.point(v);
+    moved[std::size_t(v)] = p;
+    const Vector& nv = vnormal[std::size_t(v)];
+    if (nv == Vector(0, 0, 0)) continue;
+    const Eigen::Vector3d w(nv.x(), nv.y(), nv.z());
+    const Eigen::Vector3d u = w.unitOrthogonal(), t = w.cross(u);
+    local.clear();
+    double nearest2 = 1e300, farthest2 = 0;
+    const Search search(tree, p, k, 0, true, distance);
+    for (const auto& nb : search) {
+      if (sign * (pn[nb.first].second * nv) < 0.5) continue;  // other side of a thin feature
+      const Eigen::Vector3d d(pts[nb.first].x() - p.x(), pts[nb.first].y() - p.y(), pts[nb.first].z() - p.z());
+      local.emplace_back(d.dot(u), d.dot(t), d.dot(w));
+      nearest2 = std::min(nearest2, nb.second);
+      farthest2 = std::max(farthest2, nb.second);
+    }
+    if (local.size() < 6 || nearest2 > 4.0 * spacing_mm * spacing_mm) {
+      ++ps.unsupported;
+      continue;
+    }
+    // height h(x, y) = c0 + c1 x + c2 y + c3 x^2 + c4 x y + c5 y^2; the vertex goes to c0
+    const double sigma2 = std::max(farthest2, 1e-12) / 4.0;
+    const bool quadric = local.size() >= 10;
+    const int n_coef = quadric ? 6 : 3;
+    Eigen::MatrixXd a(local.size(), n_coef);
+    Eigen::VectorXd b(local.size());
+    for (std::size_t i = 0; i < local.size(); ++i) {
+      const double x = local[i].x(), y = local[i].y();
+      const double wi = std::exp(-(x * x + y * y) / (2.0 * sigma2));
+      a(long(i), 0) = wi, a(long(i), 1) = wi * x, a(long(i), 2) = wi * y;
+      if (quadric) a(long(i), 3) = wi * x * x, a(long(i), 4) = wi * x * y, a(long(i), 5) = wi * y * y;
+      b(long(i)) = wi * local[i].z();
+    }
+    const double c0 = a.colPivHouseholderQr().solve(b)(0);
+    if (!std::isfinite(c0) || std::abs(c0) > max_move_mm) {
+      ++ps.unsupported;
+      continue;
+    }
+    moved[std::size_t(v)] = p + c0 * Vector(w.x(), w.y(), w.z());
+    ++ps.moved;
+    sum_move += std::abs(c0);
+    ps.max_move_mm = std::max(ps.max_move_mm, std::abs(c0));
+  }
+  for (auto v : mesh.vertices()) mesh.point(v) = moved[std::size_t(v)];
+  ps.mean_move_mm = ps.moved ? sum_move / double(ps.moved) : 0;
+  return ps;
 }
 
 // Denoise and remove spikes: each point is projected onto the jet (quadric) fitted to its k
@@ -460,6 +558,24 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
                                 mesh, clock))
       throw pipeline::algorithm_failed("point cloud", "Poisson reconstruction failed (normals inconsistent?)");
     if (CGAL::is_closed(mesh) && !PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);
+    if (opt.projection_max_move_mm > 0) {
+      clock.start("projection of the Poisson vertices onto the points");
+      // Only Poisson's own vertices are moved. Tried: remeshing the Poisson mesh to one point
+      // spacing first (1 iteration of isotropic remeshing), so every facet gets projected
+      // vertices: NIOSH large, 200k points, p95 0.212 mm instead of 0.189, Hausdorff 3.17
+      // instead of 2.92 mm, and 10 s more CPU (many vertices each following its own fit's noise)
+      ProjectionStats ps;
+      for (int pass = 0; pass < std::max(1, opt.projection_passes); ++pass)
+        ps = project_onto_points(mesh, pn, k, st.spacing_mm, opt.projection_max_move_mm);
+      st.projected_vertices = ps.moved;
+      st.unprojected_vertices = ps.unsupported;
+      st.projection_mean_mm = ps.mean_move_mm;
+      st.projection_max_mm = ps.max_move_mm;
+      char line[160];
+      std::snprintf(line, sizeof line, "  %zu vertices moved (mean %.3f mm, max %.3f mm), %zu without support left",
+                    ps.moved, ps.mean_move_mm, ps.max_move_mm, ps.unsupported);
+      pipeline::log("reconstruct", line);
+    }
   } else {
     clock.start(reconstruct_method_name(opt.method) + " reconstruction of " + std::to_string(pn.size()) + " points");
     std::vector<Point> pts(pn.size());

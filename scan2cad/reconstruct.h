@@ -57,6 +57,12 @@ struct ReconstructOptions {
   /// Poisson contouring accuracy: largest distance of a facet to the implicit surface [mm];
   /// default 0.05, range > 0
   double poisson_distance_mm = 0.05;
+  /// Poisson: move each output vertex onto a local quadric of the denoised points whose normals
+  /// agree with it (reconstruct.cpp, project_onto_points); 0 = off, else the largest move [mm]
+  /// (a larger one is an extrapolation and the vertex stays). Default 3 mm
+  double projection_max_move_mm = 3.0;
+  /// projection passes (vertex normals recomputed between passes); default 1, range 1-10
+  int projection_passes = 1;
   /// advancing front: longest edge of a facet, in multiples of the point spacing (longer
   /// facets are vetoed and left as holes for repair); default 5, range > 1
   double max_edge_spacings = 5.0;
@@ -74,6 +80,10 @@ struct ReconstructStats {
   double wall_mm = 0;
   std::size_t outer_side_points = 0;  ///< thin shell: points of the outer side, left out
   std::size_t vertices = 0, faces = 0;
+  /// Poisson output vertices moved onto the points, left in place (no support: scan holes),
+  /// and the mean and largest move [mm]
+  std::size_t projected_vertices = 0, unprojected_vertices = 0;
+  double projection_mean_mm = 0, projection_max_mm = 0;
   /// points left after step 1 (density cap and grid)
   std::size_t points_after_thinning = 0;
   /// wall and process-CPU seconds of each step, in order (the CPU time counts all threads of
