@@ -5,6 +5,7 @@
 
 #include <gmsh.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
@@ -55,10 +56,12 @@ TEST(surface_mesh, niosh_medium_conforming_good_quality_layering_size) {
   }
   // Layering size: layers makes ~4.5 wedges per face triangle with the default stacks, and the
   // paper's medium head has 13,570 wedges, so ~3,000 face triangles; the default 6.4 mm gives
-  // 2,770 here (NIOSH medium; the generated medium head 3,000 -> 13,484 wedges). The window
-  // allows for the remeshing's variation with the input.
-  EXPECT_GT(face_triangles, 2400u);
-  EXPECT_LT(face_triangles, 3400u);
+  // 3,174 here (the NIOSH STL repaired, fixture landmarks), 2,770 on the NIOSH medium chain
+  // (scanned, reconstructed), 2,979 on the generated medium head (13,484 wedges). The window,
+  // ~3,000 +- 17 %, allows for the remeshing's variation with the input.
+  std::printf("NIOSH medium at the default size: %zu face-part triangles\n", face_triangles);
+  EXPECT_GT(face_triangles, 2500u);
+  EXPECT_LT(face_triangles, 3500u);
   // Physical groups named per part.
   std::set<std::string> names;
   gmsh::vectorpair groups;
