@@ -58,6 +58,61 @@ void remesh_selected(SurfaceMesh& mesh, const std::function<bool(pipeline::FaceI
 
 }  // namespace
 
+std::size_t mark_border_corners(const SurfaceMesh& mesh, double min_turn_deg, double jog_mm,
+                                SurfaceMesh::Property_map<pipeline::VertexIndex, bool> corner) {
+  const double min_turn = min_turn_deg * M_PI / 180.0;
+  std::vector<bool> seen(mesh.number_of_halfedges(), false);
+  std::size_t unmarked = 0;
+  for (auto start : mesh.halfedges()) {
+    if (!mesh.is_border(start) || seen[std::size_t(start)]) continue;
+    // One border loop: its vertices (target of each border halfedge), the length of the edge
+    // leading to each, and the signed turn there (sign from the surface normal, so that a
+    // turn to the left and one back to the right cancel).
+    std::vector<pipeline::VertexIndex> v;
+    std::vector<double> turn, edge_len;
+    for (auto h = start;;) {
+      seen[std::size_t(h)] = true;
+      const auto& a = mesh.point(mesh.source(h));
+      const auto& b = mesh.point(mesh.target(h));
+      const auto& c = mesh.point(mesh.target(mesh.next(h)));
+      const pipeline::Vector u = b - a, w = c - b;
+      const double lu = std::sqrt(u.squared_length()), lw = std::sqrt(w.squared_length());
+      const double angle = std::acos(std::clamp((u * w) / std::max(lu * lw, 1e-300), -1.0, 1.0));
+      const auto n = PMP::compute_vertex_normal(mesh.target(h), mesh);
+      v.push_back(mesh.target(h));
+      edge_len.push_back(lu);
+      turn.push_back(CGAL::cross_product(u, w) * n >= 0 ? angle : -angle);
+      h = mesh.next(h);
+      if (h == start) break;
+    }
+    const std::size_t n = v.size();
+    std::vector<bool> is_corner(n);
+    for (std::size_t i = 0; i < n; ++i) is_corner[i] = !(std::abs(turn[i]) < min_turn);
+    // A jog: corners within jog_mm of each other along the loop whose turns add up to less than
+    // min_turn (a 1 mm step in the generated three-size XL cup's rim, turns of 66 and -72 deg,
+    // left a gamma 0.29 triangle, since fixed corners cannot be collapsed). It is scanner noise,
+    // not a corner, so its vertices stay free; the remeshing then collapses the step.
+    std::vector<bool> jog(n, false);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!is_corner[i]) continue;
+      double arc = 0, sum = turn[i];
+      for (std::size_t k = 1; k < n; ++k) {
+        const std::size_t j = (i + k) % n;
+        arc += edge_len[j];
+        if (arc > jog_mm) break;
+        sum += turn[j];
+        if (is_corner[j] && std::abs(sum) < min_turn)
+          for (std::size_t m = 0; m <= k; ++m) jog[(i + m) % n] = true;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      corner[v[i]] = is_corner[i] && !jog[i];
+      unmarked += is_corner[i] && jog[i];
+    }
+  }
+  return unmarked;
+}
+
 std::string fit_part_name(int label, const std::string& kind) {
   return kind == "head" ? head_names[label] : "respirator_inner";
 }
@@ -101,17 +156,10 @@ SurfaceMesh remesh_parts(const SurfaceMesh& input, const std::string& kind, doub
   }
   // Corners of an open border (a respirator's inner face: where its rim turns sharply, > 20 deg)
   // are kept fixed: relaxing and collapsing along the rim polyline would cut them off (1.8 mm
-  // on the real Flex face seal). Closed heads have no border, so nothing is fixed there.
+  // on the real Flex face seal). Closed heads have no border, so nothing is fixed there. Steps
+  // shorter than a quarter edge are noise and stay free (see mark_border_corners).
   auto corner = mesh.add_property_map<pipeline::VertexIndex, bool>("v:fit_corner", false).first;
-  for (auto h : mesh.halfedges()) {
-    if (!mesh.is_border(h)) continue;
-    const auto& a = mesh.point(mesh.source(h));
-    const auto& b = mesh.point(mesh.target(h));
-    const auto& c = mesh.point(mesh.target(mesh.next(h)));
-    const pipeline::Vector u = b - a, w = c - b;
-    const double cos_turn = (u * w) / std::sqrt(u.squared_length() * w.squared_length());
-    if (!(cos_turn > std::cos(20.0 * M_PI / 180.0))) corner[mesh.target(h)] = true;
-  }
+  mark_border_corners(mesh, 20.0, 0.25 * edge_mm, corner);
   PMP::isotropic_remeshing(mesh.faces(), edge_mm, mesh,
                            CGAL::parameters::number_of_iterations(3)
                                .edge_is_constrained_map(constrained)

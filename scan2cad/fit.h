@@ -44,6 +44,14 @@ void check_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind
 pipeline::SurfaceMesh remesh_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind,
                                    double edge_mm, double back_edge_mm = 0);
 
+/// Marks the corners of the open borders of `mesh`: vertices where the border turns by at least
+/// `min_turn_deg` (remesh_parts keeps them fixed so that the rim's shape is not cut off). A jog,
+/// corners within `jog_mm` of each other along the border whose signed turns add up to less than
+/// `min_turn_deg` (a small step, noise), is not marked. Every border vertex's flag is set.
+/// @return the number of border vertices left unmarked as parts of jogs
+std::size_t mark_border_corners(const pipeline::SurfaceMesh& mesh, double min_turn_deg, double jog_mm,
+                                pipeline::SurfaceMesh::Property_map<pipeline::VertexIndex, bool> corner);
+
 /// The fit stage. Heads: constrained isotropic remeshing at `edge_mm` as remesh_parts, with the
 /// sharp edges (> 60 deg) kept as constraints too; then, where that uniform surface misses the
 /// input by more than `refine_above_mm` (highly curved places such as the ears: 1.2-1.5 mm at
