@@ -53,7 +53,8 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
   }
   // 2. Orientation, offset directions, the common depth partition.
   Columns c = internal::make_columns(in, opt);
-  progress.step("directions and depth caps for " + std::to_string(c.dir.size()) + " skin nodes");
+  progress.step("directions (" + std::to_string(c.smoothing_passes) + " smoothing passes) and depth caps for " +
+                std::to_string(c.skin.size()) + " skin nodes");
   // 3. Detect and fix: quality of every wedge, then intersections of all element faces.
   internal::fix_columns(in, opt, c, &progress);
   // 4. Assemble the output model.

@@ -35,6 +35,7 @@ struct Columns {
   std::vector<int> max_level;             ///< by node id: deepest level any incident part needs
   std::vector<double> levels;             ///< common depth partition [mm], levels[0] = 0
   std::map<std::string, std::vector<int>> tissue_of_level;  ///< part → tissue index of level k→k+1
+  int smoothing_passes = 0;               ///< Laplacian passes the directions got (from smoothing_mm)
   Eigen::Vector3d position(const std::vector<Eigen::Vector3d>& x, int i, int k) const {
     return x[i] + scale[i] * levels[k] * dir[i];
   }
