@@ -304,6 +304,16 @@ double triangle_gamma(const pipeline::Point& p0, const pipeline::Point& p1, cons
   return 2 * r / R;
 }
 
+double min_triangle_gamma(const SurfaceMesh& mesh) {
+  double worst = 1;
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    worst = std::min(worst, triangle_gamma(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+                                           mesh.point(mesh.target(mesh.next(h)))));
+  }
+  return worst;
+}
+
 namespace {
 
 pipeline::Vector unit_normal(const pipeline::Point& a, const pipeline::Point& b, const pipeline::Point& c) {

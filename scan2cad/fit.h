@@ -88,6 +88,9 @@ std::size_t improve_triangles(pipeline::SurfaceMesh& mesh, int rounds = 3);
 /// equilateral triangle, 0 for a degenerate one).
 double triangle_gamma(const pipeline::Point& a, const pipeline::Point& b, const pipeline::Point& c);
 
+/// The smallest triangle_gamma over the faces of a triangle mesh (1 if it has none).
+double min_triangle_gamma(const pipeline::SurfaceMesh& mesh);
+
 /// Builds the part-wise model in the CURRENT gmsh model (gmsh must be initialized; a model
 /// named "fitted" is added): one discrete surface and one named 2D physical group per part, nodes
 /// shared (one global numbering = vertex index + 1), boundary curves and corner points created

@@ -54,16 +54,6 @@ SurfaceMesh rim_with_sliver(bool with_sliver) {
   return mesh;
 }
 
-double min_gamma(const SurfaceMesh& mesh) {
-  double worst = 1;
-  for (auto f : mesh.faces()) {
-    const auto h = mesh.halfedge(f);
-    worst = std::min(worst, scan2cad::triangle_gamma(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
-                                                     mesh.point(mesh.target(mesh.next(h)))));
-  }
-  return worst;
-}
-
 using Segment = std::tuple<double, double, double, double, double, double>;
 
 // The border and the part cut as sets of segments (end points exactly): unchanged means no
@@ -96,14 +86,14 @@ TEST(improve_triangles, lifts_interior_vertex_almost_on_a_straight_rim_edge) {
   SurfaceMesh mesh = rim_with_sliver(true);
   ASSERT_TRUE(mesh.is_valid(false));
   // The twosize-m rim's sliver (gamma 0.047; 0.052 with its edges rounded to 1.53 / 3.02 mm).
-  ASSERT_LT(min_gamma(mesh), 0.06);
+  ASSERT_LT(scan2cad::min_triangle_gamma(mesh), 0.06);
   const auto border_before = cut_segments(mesh);
   const auto areas_before = part_areas(mesh);
 
   scan2cad::improve_triangles(mesh);
 
   EXPECT_TRUE(mesh.is_valid(false));
-  EXPECT_GE(min_gamma(mesh), 0.3);
+  EXPECT_GE(scan2cad::min_triangle_gamma(mesh), 0.3);
   EXPECT_EQ(cut_segments(mesh), border_before);  // rim and part cut: the same segments
   // Flat patch, cut vertices fixed: each part covers exactly the same region as before.
   const auto areas_after = part_areas(mesh);
@@ -122,7 +112,7 @@ TEST(collapse_slivers_at_cuts, collapses_the_sliver_into_a_rim_vertex_and_nothin
   const auto border_before = cut_segments(mesh);
   EXPECT_EQ(scan2cad::collapse_slivers_at_cuts(mesh, 0.3), 1u);
   EXPECT_EQ(cut_segments(mesh), border_before);
-  EXPECT_GT(min_gamma(mesh), 0.047);
+  EXPECT_GT(scan2cad::min_triangle_gamma(mesh), 0.047);
   // The remaining triangle on the 3.02 mm rim edge is the rim edge with an interior vertex of the
   // row above it (no flip or smoothing yet).
   bool found = false;
@@ -171,12 +161,12 @@ TEST(collapse_slivers_at_cuts, removes_a_flat_ear_on_the_rim_and_keeps_a_pointed
   // The other form of the twosize-m rim sliver (gamma 0.000, edges 1.51 / 1.51 / 3.02 mm): a rim
   // vertex with a single triangle, on the segment between its two rim neighbours.
   SurfaceMesh flat = rim_with_ear(0);
-  ASSERT_LT(min_gamma(flat), 1e-6);
+  ASSERT_LT(scan2cad::min_triangle_gamma(flat), 1e-6);
   EXPECT_EQ(scan2cad::collapse_slivers_at_cuts(flat, 0.3), 1u);
   EXPECT_TRUE(flat.is_valid(false));
   EXPECT_EQ(flat.number_of_vertices(), 9u);
   EXPECT_EQ(flat.number_of_faces(), 8u);
-  EXPECT_GT(min_gamma(flat), 0.8);
+  EXPECT_GT(scan2cad::min_triangle_gamma(flat), 0.8);
   // The border is now the grid's own (the tip lay on it).
   SurfaceMesh reference = rim_with_ear(0);
   CGAL::Euler::remove_face(reference.halfedge(*std::prev(reference.faces().end())), reference);
@@ -185,7 +175,7 @@ TEST(collapse_slivers_at_cuts, removes_a_flat_ear_on_the_rim_and_keeps_a_pointed
 
   // An ear 0.5 mm deep (gamma 0.19, > 2 % of its 3.02 mm base) is part of the rim's shape: kept.
   SurfaceMesh pointed = rim_with_ear(0.5);
-  ASSERT_LT(min_gamma(pointed), 0.3);
+  ASSERT_LT(scan2cad::min_triangle_gamma(pointed), 0.3);
   EXPECT_EQ(scan2cad::collapse_slivers_at_cuts(pointed, 0.3), 0u);
   EXPECT_EQ(pointed.number_of_faces(), 9u);
 }
@@ -215,7 +205,7 @@ TEST(collapse_slivers_at_cuts, removes_an_ear_of_a_part_cut) {
   }
   ASSERT_EQ(part1_faces, 1);
   mesh.point(V) = Point((cut_column - 1) * spacing_mm + 0.12, 3 * spacing_mm, 0);
-  ASSERT_LT(min_gamma(mesh), 0.2);
+  ASSERT_LT(scan2cad::min_triangle_gamma(mesh), 0.2);
   const auto areas_before = part_areas(mesh);
   double total_before = 0;
   for (const auto& [label, area] : areas_before) total_before += area;
@@ -223,9 +213,9 @@ TEST(collapse_slivers_at_cuts, removes_an_ear_of_a_part_cut) {
   EXPECT_GE(scan2cad::collapse_slivers_at_cuts(mesh, 0.3), 1u);
   // The ear is gone. Moving V also stretched its part-2 triangles (gamma 0.27 after the collapse);
   // those are improve_triangles' flips' job, checked next.
-  EXPECT_GE(min_gamma(mesh), 0.25);
+  EXPECT_GE(scan2cad::min_triangle_gamma(mesh), 0.25);
   scan2cad::improve_triangles(mesh);
-  EXPECT_GE(min_gamma(mesh), 0.3);
+  EXPECT_GE(scan2cad::min_triangle_gamma(mesh), 0.3);
   double total_after = 0;
   for (const auto& [label, area] : part_areas(mesh)) total_after += area;
   EXPECT_NEAR(total_after, total_before, 1e-9);  // a flat patch: nothing added or lost

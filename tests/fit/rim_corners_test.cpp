@@ -68,16 +68,6 @@ std::vector<Point> marked(const SurfaceMesh& mesh, double jog_mm, std::size_t* u
   return out;
 }
 
-double min_gamma(const SurfaceMesh& mesh) {
-  double worst = 1;
-  for (auto f : mesh.faces()) {
-    const auto h = mesh.halfedge(f);
-    worst = std::min(worst, scan2cad::triangle_gamma(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
-                                                     mesh.point(mesh.target(mesh.next(h)))));
-  }
-  return worst;
-}
-
 TEST(mark_border_corners, a_jog_is_not_a_corner_and_a_chamfered_corner_is) {
   std::size_t unmarked = 0;
   // Plain rectangle: its 4 corners.
@@ -103,7 +93,7 @@ TEST(remesh_parts, a_jog_in_the_rim_leaves_no_poor_triangle) {
   SurfaceMesh mesh = scan2cad::remesh_parts(sheet(true, false), "respirator", 7.0);
   scan2cad::improve_triangles(mesh);
   // surface_mesh's acceptance threshold is 0.3.
-  EXPECT_GE(min_gamma(mesh), 0.3);
+  EXPECT_GE(scan2cad::min_triangle_gamma(mesh), 0.3);
   // The step is gone: no rim edge is shorter than a quarter of the target (with the step's two
   // vertices fixed as corners, its 0.67 mm edge stays).
   double shortest_rim_edge = 1e300;
@@ -112,7 +102,7 @@ TEST(remesh_parts, a_jog_in_the_rim_leaves_no_poor_triangle) {
       shortest_rim_edge = std::min(shortest_rim_edge, std::sqrt(CGAL::squared_distance(
                                                           mesh.point(mesh.vertex(e, 0)), mesh.point(mesh.vertex(e, 1)))));
   EXPECT_GE(shortest_rim_edge, 0.25 * 7.0);
-  std::printf("min gamma %.3f, shortest rim edge %.2f mm\n", min_gamma(mesh), shortest_rim_edge);
+  std::printf("min gamma %.3f, shortest rim edge %.2f mm\n", scan2cad::min_triangle_gamma(mesh), shortest_rim_edge);
   // The four real corners are still there (the step raised the rim right of it, (60, 0) too).
   std::size_t found = 0;
   for (auto vi : mesh.vertices())
