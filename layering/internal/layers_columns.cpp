@@ -32,7 +32,9 @@ double triangle_quality(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
   return q * 2.0 / std::sqrt(3.0);
 }
 
-std::vector<std::vector<int>> neighbours(const Input& in) {
+}  // namespace
+
+std::vector<std::vector<int>> skin_neighbours(const Input& in) {
   std::vector<std::set<int>> n(in.nodes.size());
   for (const PartTris& p : in.parts)
     for (const Tri& t : p.tris)
@@ -44,8 +46,6 @@ std::vector<std::vector<int>> neighbours(const Input& in) {
   for (std::size_t i = 0; i < n.size(); ++i) out[i].assign(n[i].begin(), n[i].end());
   return out;
 }
-
-}  // namespace
 
 std::size_t Columns::reduced_columns() const {
   std::size_t n = 0;
@@ -73,6 +73,7 @@ void limit_depth_gradient(const std::vector<std::vector<int>>& nbr, const std::v
       }
     if (!changed) return;
   }
+  throw pipeline::algorithm_failed("layers", "depth taper did not settle in 10000 passes");
 }
 
 Columns make_columns(Input& in, const LayerOptions& opt) {
@@ -120,13 +121,15 @@ Columns make_columns(Input& in, const LayerOptions& opt) {
   // 3. Laplacian smoothing of the directions over the whole face (all parts together), over a
   //    distance rather than a number of rings: each pass diffuses by about one edge, so n passes
   //    reach ~√n edges, and the same count smoothed 4 mm surfaces half as far as 7 mm ones.
-  const auto nbr = neighbours(in);
+  const auto nbr = skin_neighbours(in);
   double edge_sum = 0;
   std::size_t edge_count = 0;
   for (int i : c.skin)
     for (int j : nbr[i]) edge_sum += (x[i] - x[j]).norm(), ++edge_count;
-  const double mean_edge = edge_count ? edge_sum / double(edge_count) : 1.0;
-  c.smoothing_passes = int(std::clamp(std::round(std::pow(opt.smoothing_mm / mean_edge, 2)), 0.0, 200.0));
+  const double mean_edge_mm = edge_count ? edge_sum / double(edge_count) : 1.0;
+  // At most 200 passes (a reach of ~14 edges): beyond that the smoothing would bend the directions
+  // of a whole cheek, and the cost grows as the square of the reach (1 mm surfaces at 14 mm: 196).
+  c.smoothing_passes = int(std::clamp(std::round(std::pow(opt.smoothing_mm / mean_edge_mm, 2)), 0.0, 200.0));
   const std::vector<Eigen::Vector3d> raw = c.dir;
   for (int it = 0; it < c.smoothing_passes; ++it) {
     std::vector<Eigen::Vector3d> next = c.dir;
@@ -233,7 +236,7 @@ void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline:
                                                  ", expected >= " + std::to_string(opt.min_scaled_jacobian) +
                                                  " (remesh the surface)");
     }
-  const auto nbr = neighbours(in);
+  const auto nbr = skin_neighbours(in);
   for (int iter = 0; iter < opt.max_fix_iterations; ++iter) {
     // Build the current wedges (all parts) and shells as one model.
     FeModel m;

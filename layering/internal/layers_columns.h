@@ -43,6 +43,9 @@ struct Columns {
   double min_scale() const;
 };
 
+/// Skin-edge neighbours of each node (over every layered part's triangles), sorted.
+std::vector<std::vector<int>> skin_neighbours(const Input& in);
+
 /// Largest depth slope between neighbouring columns [mm of depth per mm along the skin] after a
 /// column was thinned. 0.6 (31°): the old limit, 0.15 of the scale per edge, was 0.39-0.42 for the
 /// cheeks' 18 mm at 6.4-7 mm edges and spread each thinned spot over ~4 edges (~28 mm) of every

@@ -143,16 +143,10 @@ TEST(layers_columns, thinned_column_tapers_within_a_fixed_width_at_any_edge_leng
       }
     layering::internal::Columns col = layering::internal::make_columns(in, layering::LayerOptions{});
     ASSERT_DOUBLE_EQ(col.min_scale(), 1.0);  // a flat patch needs no thinning
-    std::vector<std::set<int>> nset(in.nodes.size());
     std::vector<char> in_cheek(in.nodes.size(), 0);
-    for (std::size_t p = 0; p < in.parts.size(); ++p)
-      for (const auto& t : in.parts[p].tris)
-        for (int v = 0; v < 3; ++v) {
-          nset[t[v]].insert({t[(v + 1) % 3], t[(v + 2) % 3]});
-          if (p == 1) in_cheek[t[v]] = 1;
-        }
-    std::vector<std::vector<int>> nbr;
-    for (const auto& s : nset) nbr.emplace_back(s.begin(), s.end());
+    for (const auto& t : in.parts[1].tris)
+      for (int v : t) in_cheek[v] = 1;
+    const auto nbr = layering::internal::skin_neighbours(in);
     const int cheek_spot = id[{int(std::lround(25 / h)), 0}], boundary_spot = id[{0, 0}];
     ASSERT_TRUE(in_cheek[boundary_spot] && in_cheek[cheek_spot]);
     col.scale[cheek_spot] = col.scale[boundary_spot] = 0.5;
