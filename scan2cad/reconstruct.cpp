@@ -33,6 +33,7 @@
 #include <CGAL/Eigen_solver_traits.h>
 #include <Eigen/Eigenvalues>
 #include <CGAL/remove_outliers.h>
+#include <CGAL/Random.h>
 
 #include <algorithm>
 #include <array>
@@ -466,6 +467,9 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
                         ReconstructStats* stats_out) {
   ReconstructStats st;
   st.input_points = cloud.points.size();
+  // CGAL draws from its default generator (thread-local, seeded from the clock) inside the
+  // reconstruction; seeded here so the same scan gives the same mesh in every run and thread
+  CGAL::get_default_random() = CGAL::Random(20261124);
   if (cloud.points.size() < min_points)
     throw pipeline::bad_input("point cloud", std::to_string(cloud.points.size()) +
                                                  " points are too few to define a surface, expected at least " +
