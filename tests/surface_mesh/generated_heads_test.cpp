@@ -3,8 +3,9 @@
 // random translation and in metres:
 //   align (frame within 2 deg and 2 mm of the upright original's) -> landmarks -> segment (every
 //   face part a disk, cheek areas within 5 %) -> fit (deviation <= 0.2 mm RMS, <= 1 mm max per
-//   part) -> surface_mesh (gamma >= 0.3; the .msh opens in gmsh and meshio).
-// Requirements of issue 3. Figures are printed per head (see meshing/README.md).
+//   part) -> surface_mesh (gamma >= 0.3; the .msh opens in gmsh and meshio) -> layers (issue 4:
+//   wedges positive, scaled Jacobian >= 0.2, no crossings, part x layer volumes within 5 %).
+// Requirements of issues 3 and 4. Figures are printed per head (see meshing/README.md).
 #include <gtest/gtest.h>
 
 #include <gmsh.h>
@@ -19,6 +20,7 @@
 #include "../align/align_helpers.h"
 #include "data/generator/head_model.h"
 #include "layering/internal/segment_landmarks.h"
+#include "layering/layers.h"
 #include "layering/segment.h"
 #include "meshing/surface_mesh.h"
 #include "pipeline/atomic_write.h"
@@ -119,6 +121,25 @@ TEST_P(GeneratedHead, aligned_segmented_fitted_and_meshed_within_the_requirement
                             "'); assert sum(len(c.data) for c in m.cells if c.type == 'triangle') == " +
                             std::to_string(triangles) + "\"";
   EXPECT_EQ(std::system(check.c_str()), 0);
+
+  // 6. Layers on that mesh with the default options (issue 4): every wedge positive, min scaled
+  //    Jacobian >= 0.2, no crossing element faces, every part x layer within 5 % of its mid-depth
+  //    offset area x thickness (the reference tests/layers explains; skin area x t is printed too).
+  layering::LayerReport rep;
+  const auto layered = layering::build_layers(layering::read_fe_model(msh),
+                                              layering::read_stacks(std::string(SOURCE_DIR) + "/data/materials.json", "head"),
+                                              layering::LayerOptions{}, &rep);
+  std::printf("%s: layers %zu wedges, min scaled Jacobian %.3f, min volume %.3f mm3, %zu columns thinned\n", id.c_str(),
+              rep.wedges, rep.min_scaled_jacobian, rep.min_volume, rep.reduced_columns);
+  EXPECT_GT(rep.min_volume, 0.0);
+  EXPECT_GE(rep.min_scaled_jacobian, 0.2);
+  EXPECT_EQ(layering::count_intersecting_faces(layered), 0u);
+  for (const auto& v : rep.volumes) {
+    std::printf("%s: layers %-20s %6zu wedges  V/(mid-area*t) %+5.1f %%  V/(skin-area*t) %+5.1f %%\n", id.c_str(),
+                v.group.c_str(), v.wedges, 100 * (v.volume / v.mid_area_volume - 1),
+                100 * (v.volume / v.skin_area_volume - 1));
+    EXPECT_NEAR(v.volume / v.mid_area_volume, 1.0, 0.05) << v.group;
+  }
   fs::remove_all(dir);
 }
 
