@@ -14,6 +14,7 @@
 #include "layering/internal/segment_landmarks.h"
 #include "layering/layers.h"
 #include "layering/segment.h"
+#include "check_head_layers.h"
 #include "layers_fixtures.h"
 #include "pipeline/read_scan.h"
 
@@ -55,33 +56,7 @@ void check_head(const layering::FeModel& surface, const std::string& stl) {
   layering::LayerReport rep;
   const layering::FeModel m =
       layering::build_layers(surface, layering::read_stacks(kMaterials, "head"), layering::LayerOptions{}, &rep);
-  std::printf("%s: %zu wedges, %zu shell triangles, %zu nodes, min scaled Jacobian %.3f, %zu columns thinned "
-              "(min scale %.2f)\n",
-              stl.c_str(), rep.wedges, rep.shell_triangles, rep.nodes, rep.min_scaled_jacobian, rep.reduced_columns,
-              rep.min_depth_scale);
-  double min_j = 1e9, min_v = 1e9;
-  for (const auto& b : m.blocks)
-    if (b.dim == 3)
-      for (std::size_t e = 0; e < b.size(); ++e) {
-        Eigen::Vector3d p[6];
-        for (int k = 0; k < 6; ++k) p[k] = m.nodes[b.conn[6 * e + k]];
-        min_j = std::min(min_j, layering::wedge_scaled_jacobian(p));
-        min_v = std::min(min_v, layering::wedge_volume(p));
-      }
-  EXPECT_GT(min_v, 0.0);
-  EXPECT_GE(min_j, 0.2);  // issue 4: min scaled Jacobian >= 0.2
-  EXPECT_EQ(layering::count_intersecting_faces(m), 0u);
-  for (const auto& v : rep.volumes) {
-    std::printf("  %-20s %6zu wedges  V/(mid-area*t) %+5.1f %%  V/(skin-area*t) %+5.1f %%\n", v.group.c_str(), v.wedges,
-                100 * (v.volume / v.mid_area_volume - 1), 100 * (v.volume / v.skin_area_volume - 1));
-    // 5 %: issue 4. The reference is the area of the unthinned offset surface at the layer's mid-depth
-    // (Steiner: an inward offset of a convex face shrinks, by ~(d1+d2)/2R ≈ 20 % for the cheek bone at
-    // R ≈ 80 mm, which no correct mesh could hide); any local thinning or leaning column counts against it.
-    EXPECT_NEAR(v.volume / v.mid_area_volume, 1.0, 0.05) << v.group;
-  }
-  for (const char* g : {"forehead_skin", "forehead_bone", "left_cheek_fat", "right_cheek_muscle", "chin_bone",
-                        "head_skin", "back_of_head", "left_cheek_bone_inner"})
-    EXPECT_NE(m.find(g), nullptr) << g;
+  layers_test::expect_valid_head_layers(m, rep, stl);
 }
 
 }  // namespace
