@@ -23,9 +23,13 @@ help:
 deps:
 	@scripts/install-deps.sh
 
+# Ninja when present (install-deps installs it): it compiles a target's files while the libraries
+# the target links are still being archived, where make goes target by target. Only for a new build
+# directory: an existing one keeps the generator it was made with.
 $(BUILD)/CMakeCache.txt: CMakeLists.txt
 	@scripts/install-deps.sh
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	cmake -S . -B $(BUILD) $$(test -f $(BUILD)/CMakeCache.txt || ! command -v ninja >/dev/null || echo -G Ninja) \
+	  -DCMAKE_BUILD_TYPE=Release
 
 build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)

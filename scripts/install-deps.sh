@@ -3,7 +3,7 @@
 # packages are present. Each package is listed here and nowhere else.
 set -euo pipefail
 PACKAGES=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ninja-build
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev   # CGAL and its number types
   libeigen3-dev                                      # dense/sparse algebra
   libtbb-dev                                         # CGAL's parallel point-set steps
