@@ -19,8 +19,8 @@
 int main(int argc, char** argv) {
   std::string mesh_path, method_name = "auto", out_prefix;
   int points = 1000000, seed = 7;
-  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1, projection = -1;
-  int density_points = -1, projection_passes = 1;
+  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1, projection = -1, hole_cut = -1;
+  int density_points = -1;
   scan2cad::RepairOptions ropt;
   pipeline::Cli cli("bench_scan2cad", "Times reconstruct + repair on a simulated scan of a mesh.");
   cli.option("-m", "--mesh", &mesh_path, "reference surface (STL/PLY/OFF/OBJ)", pipeline::required);
@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   cli.option("-D", "--density-reference", &density_points, "thin denser scans to a scan of this many points, 0 = none (-1: default)", -1, 2000000000);
   cli.option("-T", "--cg-tolerance", &cg_tol, "Poisson CG relative tolerance (-1: default)", -1, 1);
   cli.option("-P", "--projection-max-move", &projection, "Poisson vertices onto the points: largest move [mm], 0 = off (-1: default)", -1, 50);
-  cli.option("-p", "--projection-passes", &projection_passes, "projection passes", 1, 10);
+  cli.option("-H", "--hole-cut-spacings", &hole_cut, "cut Poisson faces this many spacings from the points, 0 = off (-1: default)", -1, 100);
   cli.option("-e", "--edge", &ropt.target_edge_mm, "repair target edge [mm]", 0, 50);
   cli.option("-s", "--smooth", &ropt.smoothing_iterations, "repair smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &ropt.smoothing_time, "repair smoothing time step", 1e-9, 1);
@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
     if (density_points >= 0) opt.density_reference_points = std::size_t(density_points);
     if (cg_tol > 0) opt.poisson_solver_tolerance = cg_tol;
     if (projection >= 0) opt.projection_max_move_mm = projection;
-    opt.projection_passes = projection_passes;
+    if (hole_cut >= 0) opt.hole_cut_spacings = hole_cut;
     auto t0 = clock::now();
     scan2cad::ReconstructStats rs;
     const auto rec = scan2cad::reconstruct(cloud, scan2cad::ScanKind::head, opt, &rs);

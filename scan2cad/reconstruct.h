@@ -9,7 +9,8 @@
 ///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
 ///                      boundaries; the default for respirators;
 ///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
-/// (6) Poisson only: every output vertex is moved onto a local quadric of its nearest denoised
+/// (6) Poisson only: the faces it made where the scan has no points are cut out (repair fills
+/// those holes with fairing), then every output vertex is moved onto a local quadric of its nearest denoised
 /// points whose normals agree with it (Poisson rounds ear rims and the nose by 1-3 mm).
 /// The defaults come from measurements on noisy NIOSH headform scans; see README.md. Respirator
 /// scans of the whole cup (a thin closed shell, wall ~1.5 mm, no normals): the two sides are
@@ -63,8 +64,10 @@ struct ReconstructOptions {
   /// agree with it (reconstruct.cpp, project_onto_points); 0 = off, else the largest move [mm]
   /// (a larger one is an extrapolation and the vertex stays). Default 3 mm
   double projection_max_move_mm = 3.0;
-  /// projection passes (vertex normals recomputed between passes); default 1, range 1-10
-  int projection_passes = 1;
+  /// Poisson: faces with a vertex farther than this many point spacings from every denoised
+  /// point (Poisson's fill of a scan hole) are cut out, so repair fills the hole with fairing
+  /// that continues the surface around it; 0 = keep Poisson's fill. Default 2
+  double hole_cut_spacings = 2.0;
   /// advancing front: longest edge of a facet, in multiples of the point spacing (longer
   /// facets are vetoed and left as holes for repair); default 5, range > 1
   double max_edge_spacings = 5.0;
@@ -85,6 +88,8 @@ struct ReconstructStats {
   /// Poisson output vertices moved onto the points, left in place (no support: scan holes),
   /// and the mean and largest move [mm]
   std::size_t projected_vertices = 0, unprojected_vertices = 0;
+  /// Poisson faces cut out where the scan has no points (ReconstructOptions::hole_cut_spacings)
+  std::size_t faces_cut = 0;
   double projection_mean_mm = 0, projection_max_mm = 0;
   /// points left after step 1 (density cap and grid)
   std::size_t points_after_thinning = 0;
@@ -103,7 +108,7 @@ struct ReconstructStats {
 /// @param[in]  kind   head or respirator (orientation check for closed heads)
 /// @param[in]  opt    ReconstructOptions
 /// @param[out] stats  optional
-/// @return a triangle mesh [mm], outward-oriented when closed
+/// @return a triangle mesh [mm], outward-oriented (Poisson: oriented before its hole fills are cut)
 /// @throws pipeline::Error(bad_input) when the cloud has fewer than 100 points (after outlier
 ///         removal) — too few to define a surface; Error(algorithm) when CGAL fails.
 pipeline::SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind,

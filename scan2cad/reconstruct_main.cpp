@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
              "heads: thin a denser scan to the grid density of a scan of this many points, 0 = none", 0, 2000000000);
   cli.option("-P", "--projection-max-move", &opt.projection_max_move_mm,
              "Poisson: move output vertices onto the points by at most this [mm], 0 = off", 0.0, 50.0);
+  cli.option("-H", "--hole-cut-spacings", &opt.hole_cut_spacings,
+             "Poisson: cut faces farther than this many spacings from the points (scan holes, filled by repair), 0 = off",
+             0.0, 100.0);
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
     opt.density_reference_points = std::size_t(density_points);

@@ -1,6 +1,7 @@
 #pragma once
 /// Distances between two surfaces, to judge a reconstruction against its reference.
 #include <cstddef>
+#include <vector>
 
 #include "pipeline/surface_mesh.h"
 
@@ -15,14 +16,22 @@ struct SurfaceDistance {
   pipeline::Point a_worst, b_worst;  ///< samples of a and of b farthest from the other mesh [mm]
 };
 
+/// A ball [mm]: a region left out of a distance measurement (e.g. a scan hole, where the
+/// output is a fill of a surface nobody saw).
+struct Ball {
+  pipeline::Point centre;
+  double radius_mm = 0;
+};
+
 /// Samples `samples_per_mesh` points uniformly on each mesh (PMP::sample_triangle_mesh, plus
 /// every vertex) and measures each sample's distance to the other mesh with an AABB tree.
 /// The maximum over samples is the symmetric Hausdorff distance up to the sampling density.
 ///
 /// @param[in] a, b  triangle meshes [mm], non-empty
 /// @param[in] samples_per_mesh  random points per mesh; default 200,000; seed fixed
-/// @throws pipeline::Error(bad_input) if either mesh has no faces
+/// @param[in] excluded  samples (of either mesh) inside any of these balls are not measured
+/// @throws pipeline::Error(bad_input) if either mesh has no faces or every sample is excluded
 SurfaceDistance surface_distance(const pipeline::SurfaceMesh& a, const pipeline::SurfaceMesh& b,
-                                 std::size_t samples_per_mesh = 200000);
+                                 std::size_t samples_per_mesh = 200000, const std::vector<Ball>& excluded = {});
 
 }  // namespace scan2cad

@@ -9,7 +9,9 @@
 // process, so the requirement is split by what it asks, not by head).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <cstdio>
 #include <mutex>
 #include <string>
@@ -29,6 +31,10 @@ struct HeadRun {
   generator::GenerateRequest request;
   scan2cad::RepairReport report;
   scan2cad::SurfaceDistance distance;
+  /// the same measured only where the scanner saw the surface: samples within the holes' radius
+  /// + 3 mm of their centres left out (a diagnostic: the requirement is on `distance`)
+  scan2cad::SurfaceDistance distance_outside_holes;
+  std::vector<generator::Hole> holes;  ///< the scan's holes (where the output is a fill)
   std::string error;  ///< empty when reconstruct + repair succeeded
 };
 
@@ -47,12 +53,12 @@ generator::GenerateRequest scan_request() {
 std::vector<HeadRun> make_runs() {
   std::vector<HeadRun> runs;
   for (const char* size : {"medium", "large"}) {
-    HeadRun r{std::string("NIOSH_") + size, scan_request(), {}, {}, {}};
+    HeadRun r{std::string("NIOSH_") + size, scan_request(), {}, {}, {}, {}, {}};
     r.request.mesh_path = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_" + size + "_20k.stl";
     runs.push_back(r);
   }
   for (const char* id : {"small", "medium", "large", "longnarrow", "shortwide"}) {
-    HeadRun r{std::string("generated_") + id, scan_request(), {}, {}, {}};
+    HeadRun r{std::string("generated_") + id, scan_request(), {}, {}, {}, {}, {}};
     r.request.kind = "head";
     r.request.id = id;
     r.request.params_path = std::string(SOURCE_DIR) + "/data/generator/headforms.json";
@@ -61,12 +67,21 @@ std::vector<HeadRun> make_runs() {
     r.request.no_model_holes = true;
     runs.push_back(r);
   }
+  // for experiments: HEAD_ACCEPTANCE_ONLY=NIOSH_large,generated_small runs those heads only
+  if (const char* only = std::getenv("HEAD_ACCEPTANCE_ONLY")) {
+    const std::string list = std::string(",") + only + ",";
+    runs.erase(std::remove_if(runs.begin(), runs.end(),
+                              [&](const HeadRun& r) { return list.find("," + r.name + ",") == std::string::npos; }),
+               runs.end());
+    std::printf("HEAD_ACCEPTANCE_ONLY: %zu of the seven heads run\n", runs.size());
+  }
   return runs;
 }
 
 void run_one(HeadRun& run) {
   try {
     const auto scan = generator::generate_scan(run.request);
+    run.holes = scan.holes;
     const auto mesh = scan2cad::reconstruct(scan.cloud, scan2cad::ScanKind::head, {});
     pipeline::PolygonSoup soup;
     for (auto v : mesh.vertices()) soup.points.push_back(mesh.point(v));
@@ -76,6 +91,9 @@ void run_one(HeadRun& run) {
     }
     const auto repaired = scan2cad::repair(soup, scan2cad::ScanKind::head, {}, &run.report);
     run.distance = scan2cad::surface_distance(repaired, scan.clean_mesh);
+    std::vector<scan2cad::Ball> holes;
+    for (const auto& h : scan.holes) holes.push_back({h.centre, h.radius_mm + 3.0});
+    run.distance_outside_holes = scan2cad::surface_distance(repaired, scan.clean_mesh, 200000, holes);
   } catch (const std::exception& e) {
     run.error = e.what();
   }
@@ -101,6 +119,18 @@ const std::vector<HeadRun>& head_runs() {
                   r.distance.a_worst.y(), r.distance.a_worst.z(), r.distance.b_to_a_max_mm, r.distance.b_worst.x(),
                   r.distance.b_worst.y(), r.distance.b_worst.z(), r.distance.p95_mm, r.distance.mean_mm,
                   r.report.closed, r.report.manifold, r.report.self_intersecting_after, r.error.c_str());
+    for (const auto& r : runs)
+      std::printf("%-22s outside the holes: hausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f "
+                  "%.1f %.1f)\n",
+                  r.name.c_str(), r.distance_outside_holes.hausdorff_mm, r.distance_outside_holes.a_to_b_max_mm,
+                  r.distance_outside_holes.a_worst.x(), r.distance_outside_holes.a_worst.y(),
+                  r.distance_outside_holes.a_worst.z(), r.distance_outside_holes.b_to_a_max_mm,
+                  r.distance_outside_holes.b_worst.x(), r.distance_outside_holes.b_worst.y(),
+                  r.distance_outside_holes.b_worst.z());
+    for (const auto& r : runs)
+      for (const auto& h : r.holes)
+        std::printf("%-22s hole centre %.1f %.1f %.1f diameter %.1f mm\n", r.name.c_str(), h.centre.x(), h.centre.y(),
+                    h.centre.z(), 2 * h.radius_mm);
   });
   return runs;
 }
@@ -134,7 +164,14 @@ TEST(head_acceptance, seven_heads_are_closed_manifold_and_within_p95) {
 // These figures predate 88b2c05 (CGAL's default random generator seeded; runs of the same scan
 // differed until then). Seeded, at 31e2867: NIOSH medium 3.59 mm (fin), NIOSH large 2.87 (ear),
 // generated small 1.82, medium 2.23, large 1.66, longnarrow 1.75, shortwide 2.33 mm; p95
-// 0.172-0.190 mm. Run with --gtest_also_run_disabled_tests.
+// 0.172-0.190 mm. With Poisson's hole fills cut out and the holes faired by repair (2026-11-24,
+// session 6; ReconstructOptions::hole_cut_spacings): 3.59, 2.89, 1.38, 1.86, 1.68, 1.55, 2.48 mm;
+// p95 0.173-0.189 mm. Outside the holes (the diagnostic printed above): 3.59 (fin), 2.80 (ear
+// slot), 1.38-1.68 mm on the generated heads, all at the back of an ear, where the generator's
+// ray-cast clean mesh has a sharp edge (a non-star-shaped part: the ray from the head's centre
+// jumps from the ear to the scalp), which every smoothing reconstruction rounds. In the holes:
+// NIOSH large eye socket 1.87 (Poisson's fill 2.57), generated medium under the nose tip 1.86
+// (2.21), shortwide over the jaw 2.48. Run with --gtest_also_run_disabled_tests.
 TEST(head_acceptance, DISABLED_seven_heads_within_1mm_hausdorff) {
   for (const auto& r : head_runs()) {
     SCOPED_TRACE(r.name);
