@@ -13,12 +13,14 @@
 
 namespace {
 
-pipeline::PointCloud noisy_sphere(double r, std::size_t n, double noise, double outliers) {
+pipeline::PointCloud noisy_sphere(double r, std::size_t n, double noise, double outliers,
+                                  const std::vector<generator::Hole>& holes = {}) {
   generator::Rng rng{42};
   generator::ScanOptions so;
   so.points = n;
   so.noise_mm = noise;
   so.outliers.fraction = outliers;
+  so.holes = holes;
   return generator::scan_surface(generator::triangles_of(test_meshes::sphere_soup(r, 120)), so, rng);
 }
 
@@ -73,11 +75,7 @@ TEST(reconstruct, advancing_front_interpolates_a_clean_sphere) {
 // 12 mm sphere scanned at 0.8 mm spacing bends like an ear rim or the nose wings.
 TEST(reconstruct, projection_onto_the_points_brings_poisson_closer_to_a_small_sphere) {
   const double r = 12;
-  generator::Rng rng{42};
-  generator::ScanOptions so;
-  so.points = 8000;
-  so.noise_mm = 0.1;
-  const auto cloud = generator::scan_surface(generator::triangles_of(test_meshes::sphere_soup(r, 120)), so, rng);
+  const auto cloud = noisy_sphere(r, 8000, 0.1, 0.005);
   auto mean_radial_error = [&](const pipeline::SurfaceMesh& m) {
     double sum = 0;
     for (auto v : m.vertices()) sum += std::abs(std::sqrt((m.point(v) - CGAL::ORIGIN).squared_length()) - r);
@@ -102,14 +100,8 @@ TEST(reconstruct, projection_onto_the_points_brings_poisson_closer_to_a_small_sp
 // facet); without it, it is closed.
 TEST(reconstruct, poisson_fill_of_a_scan_hole_is_cut_out) {
   const double r = 50;
-  generator::Rng rng{42};
-  generator::ScanOptions so;
-  so.points = 40000;
-  so.noise_mm = 0.2;
-  so.outliers.fraction = 0;
   const generator::Hole hole{{0, 0, r}, {0, 0, 1}, 10.0};
-  so.holes = {hole};
-  const auto cloud = generator::scan_surface(generator::triangles_of(test_meshes::sphere_soup(r, 120)), so, rng);
+  const auto cloud = noisy_sphere(r, 40000, 0.2, 0.0, {hole});
   for (const auto& p : cloud.points) ASSERT_GT(CGAL::squared_distance(p, hole.centre), 9.0 * 9.0);
   scan2cad::ReconstructOptions off;
   off.hole_cut_spacings = 0;
