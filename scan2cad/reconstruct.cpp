@@ -190,19 +190,6 @@ void orient_like_normals(SurfaceMesh& mesh, const std::vector<Point>& pts, const
   if (vote < 0) PMP::reverse_face_orientations(mesh);
 }
 
-// Moves every vertex of a Poisson mesh onto the surface the denoised points describe near it.
-// Poisson approximates: its implicit function is smooth over a few point spacings, so thin or
-// sharply curved features (ear rims, the nostrils, under the nose tip) come out rounded by
-// 1-3 mm although the denoised points lie on them. Each vertex is moved along its normal to a
-// weighted least-squares quadric (height over the vertex's tangent plane, Gaussian weights) of
-// its k nearest denoised points whose oriented normals agree with the vertex normal (within
-// 60 deg): on an ear the points of the other side have the opposite normal and are left out, so
-// the fit never straddles the ear. A vertex is left in place where the fit is not supported:
-// fewer than 6 agreeing points, the nearest one farther than 2 point spacings (a scan hole,
-// which Poisson filled), or a move above `max_move_mm` (the fit extrapolates). All vertices move
-// at once (from the same mesh), then the mesh is used as Poisson's was. CGAL projects points onto
-// jets of the same point set (jet_smooth_point_set) but has no projection of one set (the mesh
-// vertices) onto another (the points), hence written here; it is an MLS-style projection.
 // k-d tree over the denoised points (CGAL's spatial search), shared by the two steps after
 // Poisson that look at the points near each output vertex.
 class PointTree {
@@ -222,7 +209,6 @@ class PointTree {
   /// the k nearest points of p, nearest first (first: point index, second: squared distance)
   Search nearest(const Point& p, unsigned k) const { return Search(*tree_, p, k, 0, true, Search::Distance(ppmap_)); }
   const Point& point(std::size_t i) const { return pts_[i]; }
-  std::size_t size() const { return pts_.size(); }
 
  private:
   std::vector<Point> pts_;

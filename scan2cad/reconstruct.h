@@ -10,8 +10,8 @@
 ///                      boundaries; the default for respirators;
 ///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
 /// (6) Poisson only: the faces it made where the scan has no points are cut out (repair fills
-/// those holes with fairing), then every output vertex is moved onto a local quadric of its nearest denoised
-/// points whose normals agree with it (Poisson rounds ear rims and the nose by 1-3 mm).
+/// those holes with fairing), then every output vertex is moved onto a local quadric of its
+/// nearest denoised points whose normals agree with it (Poisson rounds ear rims and the nose by 1-3 mm).
 /// The defaults come from measurements on noisy NIOSH headform scans; see README.md. Respirator
 /// scans of the whole cup (a thin closed shell, wall ~1.5 mm, no normals): the two sides are
 /// separated before normal orientation and only the inner side (toward the face) is kept and

@@ -6,6 +6,7 @@
 #include "pipeline/error.h"
 #include "scan2cad/internal/cleanup.h"
 #include "scan2cad/repair.h"
+#include "scan2cad/surface_distance.h"
 #include "test_meshes.h"
 
 
@@ -75,4 +76,22 @@ TEST(repair, soup_without_faces_is_bad_input) {
   } catch (const pipeline::Error& e) {
     EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
   }
+}
+
+// surface_distance: one vertex of a sphere pushed out by 5 mm is the Hausdorff distance; with a
+// ball around it left out, what remains is the two copies' sampling agreement (~0).
+TEST(surface_distance, a_bump_is_found_and_an_excluded_ball_leaves_it_out) {
+  const auto sphere = test_meshes::mesh_of(test_meshes::sphere_soup(50, 60));
+  auto bumped = sphere;
+  auto top = *bumped.vertices().begin();
+  double best = -1e9;
+  for (auto v : bumped.vertices())
+    if (bumped.point(v).z() > best) best = bumped.point(v).z(), top = v;
+  const pipeline::Point tip = bumped.point(top) + pipeline::Vector(0, 0, 5);
+  bumped.point(top) = tip;
+  const auto all = scan2cad::surface_distance(bumped, sphere, 20000);
+  EXPECT_NEAR(all.hausdorff_mm, 5.0, 0.05);  // the tip itself is a sample (every vertex is)
+  const auto outside = scan2cad::surface_distance(bumped, sphere, 20000, {{tip, 12.0}});
+  EXPECT_LT(outside.hausdorff_mm, 1e-6);
+  EXPECT_THROW(scan2cad::surface_distance(bumped, sphere, 1000, {{CGAL::ORIGIN, 100.0}}), pipeline::Error);
 }
