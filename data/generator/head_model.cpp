@@ -26,6 +26,30 @@ double smin(double a, double b, double k) {
   return std::min(a, b) - h * h * k * 0.25;
 }
 double smax(double a, double b, double k) { return -smin(-a, -b, k); }
+
+// Culling (speed only, bit-identical values): smin(f, b, k) returns f exactly, f - 0.0, when
+// b - f >= k (then h = 0), and smax(f, -b, k) returns f exactly when b + f >= k. So a part
+// whose value is certainly that far above need not be evaluated. The bounds below are proven
+// from the formulas, and kCullSlack (1e-3 mm, ~1e9 times the rounding error of values of a
+// few hundred mm) makes them hold for the computed values too; the output is byte-identical.
+constexpr double kCullSlack = 1e-3;
+
+/// True if ellipsoid(p, c, r) > t for certain. With u = p − c, k0 = |u/r| ≥ |u|/r_max and
+/// k1 = |u/r²| ≤ k0/r_min, so for k0 > 1: k0(k0 − 1)/k1 ≥ (k0 − 1)·r_min ≥ (|u|/r_max − 1)·r_min,
+/// which exceeds max(t, 0) when |u| > r_max·(1 + max(t, 0)/r_min).
+inline bool ellipsoid_above(const Point& p, double cx, double cy, double cz, double rx, double ry, double rz,
+                            double t) {
+  const double x = p.x() - cx, y = p.y() - cy, z = p.z() - cz;
+  const double r_min = std::min({rx, ry, rz}), r_max = std::max({rx, ry, rz});
+  const double reach = r_max * (1.0 + (std::max(t, 0.0) + kCullSlack) / r_min);
+  return x * x + y * y + z * z > reach * reach;
+}
+/// smin(f, ellipsoid(p, ..), k), skipping the ellipsoid where it cannot change f.
+inline double smin_ellipsoid(double f, const Point& p, double cx, double cy, double cz, double rx, double ry,
+                             double rz, double k) {
+  if (ellipsoid_above(p, cx, cy, cz, rx, ry, rz, f + k)) return f;
+  return smin(f, ellipsoid(p, cx, cy, cz, rx, ry, rz), k);
+}
 /// Capsule from a to b whose radius goes linearly from ra to rb.
 double tapered_capsule(const Point& p, const Point& a, const Point& b, double ra, double rb) {
   const Vector ab = b - a;
@@ -90,34 +114,48 @@ double HeadShape::base_value(const Point& q) const {
   const Point m(ax, y, z);  // mirrored: paired parts are written for the +x side only
   // Cranium and occiput.
   double f = ellipsoid(q, 0, 30, 2, 76, 95, 97);
-  f = smin(f, ellipsoid(q, 0, 20, -42, 71, 78, 55), 10);
-  f = smin(f, ellipsoid(q, 0, 45, 40, 66, 55, 60), 12);  // broad, flat forehead
+  f = smin_ellipsoid(f, q, 0, 20, -42, 71, 78, 55, 10);
+  f = smin_ellipsoid(f, q, 0, 45, 40, 66, 55, 60, 12);  // broad, flat forehead
   // Brow ridge, forehead-to-nose.
-  f = smin(f, ellipsoid(q, 0, 34, 82, 56, 12, 18), 8);
+  f = smin_ellipsoid(f, q, 0, 34, 82, 56, 12, 18, 8);
   // Mid-face (maxilla), cheekbones and zygomatic arches.
-  f = smin(f, ellipsoid(q, 0, -28, 28, 72, 60, 68), 10);
-  f = smin(f, ellipsoid(m, 44, 2, 52, 22, 16, 26), 10);
-  f = smin(f, ellipsoid(m, 63, 3, 14, 11, 10, 42), 8);
+  f = smin_ellipsoid(f, q, 0, -28, 28, 72, 60, 68, 10);
+  f = smin_ellipsoid(f, m, 44, 2, 52, 22, 16, 26, 10);
+  f = smin_ellipsoid(f, m, 63, 3, 14, 11, 10, 42, 8);
   // Mandible: body, angles (gonion), chin, lips.
-  f = smin(f, ellipsoid(q, 0, -70, 36, 52, 30, 58), 12);
-  f = smin(f, ellipsoid(m, 48, -66, -4, 12, 22, 18), 10);
-  f = smin(f, ellipsoid(q, 0, -86, 74, 22, 13, 16), 12);
-  f = smin(f, ellipsoid(q, 0, -46, 90, 20, 10, 12), 10);
-  f = smin(f, ellipsoid(q, 0, -62, 88, 18, 9, 11), 10);
+  f = smin_ellipsoid(f, q, 0, -70, 36, 52, 30, 58, 12);
+  f = smin_ellipsoid(f, m, 48, -66, -4, 12, 22, 18, 10);
+  f = smin_ellipsoid(f, q, 0, -86, 74, 22, 13, 16, 12);
+  f = smin_ellipsoid(f, q, 0, -46, 90, 20, 10, 12, 10);
+  f = smin_ellipsoid(f, q, 0, -62, 88, 18, 9, 11, 10);
   // Nose: bridge from the sellion to the tip, tip, alae. Scaled in depth and breadth.
   {
     const double zb = 90.0;  // nose base depth: protrusion is scaled from here
     const Point qn(x / s_nb_, y, zb + (z - zb) / s_np_);
-    double n = tapered_capsule(qn, Point(0, 18, 92), Point(0, -14, 104), 5.5, 8.0);
-    n = smin(n, ellipsoid(qn, 0, -18, 107, 10, 9, 10), 6);
-    n = smin(n, ellipsoid(Point(std::abs(qn.x()), qn.y(), qn.z()), 12, -26, 99, 8, 7, 8), 5);
-    f = smin(f, n * std::min(s_nb_, s_np_), 5);
+    const Point qn_mirrored(std::abs(qn.x()), qn.y(), qn.z());
+    const Point bridge_top(0, 18, 92), bridge_tip(0, -14, 104);
+    const double nose_scale = std::min(s_nb_, s_np_);  // > 0
+    // Culling the whole nose: n ≥ min(capsule, tip, alae) − 6/4 − 5/4 (each smin lowers the
+    // minimum by at most k/4), so f is unchanged when all three exceed t_nose. The capsule is
+    // at least its distance to the segment's midpoint minus half its length and its largest
+    // radius (8 mm).
+    const double t_nose = std::max((f + 5 + kCullSlack) / nose_scale + 2.75, 0.0);
+    const double capsule_reach = 0.5 * std::sqrt((bridge_tip - bridge_top).squared_length()) + 8.0 + t_nose + kCullSlack;
+    const bool nose_far = (qn - CGAL::midpoint(bridge_top, bridge_tip)).squared_length() > capsule_reach * capsule_reach &&
+                          ellipsoid_above(qn, 0, -18, 107, 10, 9, 10, t_nose) &&
+                          ellipsoid_above(qn_mirrored, 12, -26, 99, 8, 7, 8, t_nose);
+    if (!nose_far) {
+      double n = tapered_capsule(qn, bridge_top, bridge_tip, 5.5, 8.0);
+      n = smin(n, ellipsoid(qn, 0, -18, 107, 10, 9, 10), 6);
+      n = smin(n, ellipsoid(qn_mirrored, 12, -26, 99, 8, 7, 8), 5);
+      f = smin(f, n * nose_scale, 5);
+    }
   }
   // Eye sockets carved under the brow, eyeballs and lids put back.
-  f = smax(f, -ellipsoid(m, 33, 14, 96, 18, 10, 12), 9);
-  f = smin(f, ellipsoid(m, 33, 13, 80, 13, 11, 12), 3);
+  if (!ellipsoid_above(m, 33, 14, 96, 18, 10, 12, 9 - f)) f = smax(f, -ellipsoid(m, 33, 14, 96, 18, 10, 12), 9);
+  f = smin_ellipsoid(f, m, 33, 13, 80, 13, 11, 12, 3);
   // Ears (simple bumps with a helix rim).
-  f = smin(f, ellipsoid(m, 80, 2, -28, 7, 26, 17), 5);
+  f = smin_ellipsoid(f, m, 80, 2, -28, 7, 26, 17, 5);
   // Neck: elliptic cylinder leaning forward, cut flat at the bottom.
   {
     const double t = (y + 160.0) / 120.0;  // 0 at the cut, 1 under the skull
