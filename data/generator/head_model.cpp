@@ -34,22 +34,87 @@ double smax(double a, double b, double k) { return -smin(-a, -b, k); }
 // few hundred mm) makes them hold for the computed values too; the output is byte-identical.
 constexpr double kCullSlack = 1e-3;
 
-/// True if ellipsoid(p, c, r) > t for certain. With u = p − c, k0 = |u/r| ≥ |u|/r_max and
-/// k1 = |u/r²| ≤ k0/r_min, so for k0 > 1: k0(k0 − 1)/k1 ≥ (k0 − 1)·r_min ≥ (|u|/r_max − 1)·r_min,
-/// which exceeds max(t, 0) when |u| > r_max·(1 + max(t, 0)/r_min).
-inline bool ellipsoid_above(const Point& p, double cx, double cy, double cz, double rx, double ry, double rz,
-                            double t) {
-  const double x = p.x() - cx, y = p.y() - cy, z = p.z() - cz;
-  const double r_min = std::min({rx, ry, rz}), r_max = std::max({rx, ry, rz});
-  const double reach = r_max * (1.0 + (std::max(t, 0.0) + kCullSlack) / r_min);
-  return x * x + y * y + z * z > reach * reach;
+/// An ellipsoidal part of the design: centre c, radii r [mm], blended with smooth radius k into
+/// what comes before it. A mirrored part is written for the +x side and applies to |x|.
+struct EllipsoidPart {
+  bool mirrored;
+  double cx, cy, cz, rx, ry, rz, k;
+  double r_min, r_max, inv_rx2, inv_ry2, inv_rz2;  // derived, for the bounds below
+  double value(const Point& p) const { return ellipsoid(p, cx, cy, cz, rx, ry, rz); }
+};
+constexpr EllipsoidPart part(bool mirrored, double cx, double cy, double cz, double rx, double ry, double rz,
+                             double k) {
+  return {mirrored, cx, cy, cz, rx, ry, rz, k, std::min({rx, ry, rz}), std::max({rx, ry, rz}),
+          1 / (rx * rx), 1 / (ry * ry), 1 / (rz * rz)};
 }
-/// smin(f, ellipsoid(p, ..), k), skipping the ellipsoid where it cannot change f.
-inline double smin_ellipsoid(double f, const Point& p, double cx, double cy, double cz, double rx, double ry,
-                             double rz, double k) {
-  if (ellipsoid_above(p, cx, cy, cz, rx, ry, rz, f + k)) return f;
-  return smin(f, ellipsoid(p, cx, cy, cz, rx, ry, rz), k);
+
+// Bounds of ellipsoid(): with u = p − c, k0 = |u/r| and k1 = |u/r²|, k0/k1 is a weighted mean
+// of the radii, so it lies in [r_min, r_max], and the value k0(k0 − 1)/k1 is at least
+// g(k0) = (k0 − 1)·r_min for k0 ≥ 1 and (k0 − 1)·r_max below (the branch for k1 ≈ 0 returns
+// −r_min ≥ g(0)). g increases with k0.
+inline double part_bound_of_k0(const EllipsoidPart& e, double k0) { return (k0 - 1.0) * (k0 >= 1.0 ? e.r_min : e.r_max); }
+
+/// True if e.value(p) > t for certain: g(k0) > max(t, 0) when k0 > 1 + max(t, 0)/r_min.
+inline bool part_above(const EllipsoidPart& e, const Point& p, double t) {
+  const double x = p.x() - e.cx, y = p.y() - e.cy, z = p.z() - e.cz;
+  const double k0_needed = 1.0 + (std::max(t, 0.0) + kCullSlack) / e.r_min;
+  return x * x * e.inv_rx2 + y * y * e.inv_ry2 + z * z * e.inv_rz2 > k0_needed * k0_needed;
 }
+/// smin(f, e.value(p), e.k), skipping the ellipsoid where it cannot change f.
+inline double smin_part(double f, const EllipsoidPart& e, const Point& q, const Point& q_mirrored) {
+  const Point& p = e.mirrored ? q_mirrored : q;
+  if (part_above(e, p, f + e.k)) return f;
+  return smin(f, e.value(p), e.k);
+}
+
+/// Axis-aligned box [lo, hi] in the design's frame.
+struct Box {
+  std::array<double, 3> lo, hi;
+};
+/// Distance from the interval [lo, hi] to c along one axis.
+inline double axis_gap(double lo, double hi, double c) { return std::max({lo - c, c - hi, 0.0}); }
+/// Lower bound of e.value over the box: g(smallest k0 in the box).
+double part_lower_bound(const EllipsoidPart& e, const Box& b) {
+  double x_lo = b.lo[0], x_hi = b.hi[0];
+  if (e.mirrored) {  // |x| over [x_lo, x_hi]
+    const double a = std::abs(x_lo), c = std::abs(x_hi);
+    x_lo = x_lo <= 0 && x_hi >= 0 ? 0.0 : std::min(a, c);
+    x_hi = std::max(a, c);
+  }
+  const double gx = axis_gap(x_lo, x_hi, e.cx), gy = axis_gap(b.lo[1], b.hi[1], e.cy),
+               gz = axis_gap(b.lo[2], b.hi[2], e.cz);
+  return part_bound_of_k0(e, std::sqrt(gx * gx * e.inv_rx2 + gy * gy * e.inv_ry2 + gz * gz * e.inv_rz2));
+}
+
+// The design, in blending order. Skull and face before the nose:
+constexpr std::array<EllipsoidPart, 12> kSkullParts{{
+    part(false, 0, 30, 2, 76, 95, 97, 0),        // cranium (first: no blend)
+    part(false, 0, 20, -42, 71, 78, 55, 10),     // occiput
+    part(false, 0, 45, 40, 66, 55, 60, 12),      // broad, flat forehead
+    part(false, 0, 34, 82, 56, 12, 18, 8),       // brow ridge, forehead-to-nose
+    part(false, 0, -28, 28, 72, 60, 68, 10),     // mid-face (maxilla)
+    part(true, 44, 2, 52, 22, 16, 26, 10),       // cheekbones
+    part(true, 63, 3, 14, 11, 10, 42, 8),        // zygomatic arches
+    part(false, 0, -70, 36, 52, 30, 58, 12),     // mandible body
+    part(true, 48, -66, -4, 12, 22, 18, 10),     // mandible angles (gonion)
+    part(false, 0, -86, 74, 22, 13, 16, 12),     // chin
+    part(false, 0, -46, 90, 20, 10, 12, 10),     // upper lip
+    part(false, 0, -62, 88, 18, 9, 11, 10)}};    // lower lip
+// Nose (in its own scaled frame): bridge capsule from the sellion to the tip, tip, alae.
+constexpr double kNoseBaseZ = 90.0;  // nose base depth: protrusion is scaled from here
+constexpr double kNoseBlend = 5;
+constexpr EllipsoidPart kNoseTip = part(false, 0, -18, 107, 10, 9, 10, 6);
+constexpr EllipsoidPart kAla = part(true, 12, -26, 99, 8, 7, 8, 5);
+const Point kBridgeTop(0, 18, 92), kBridgeTip(0, -14, 104);
+const Point kBridgeMid = CGAL::midpoint(kBridgeTop, kBridgeTip);
+const double kBridgeHalfLength = 0.5 * std::sqrt((kBridgeTip - kBridgeTop).squared_length());
+constexpr double kBridgeMaxRadius = 8.0;  // radius goes from 5.5 at the top to 8 at the tip
+// Eye sockets carved under the brow (smooth maximum), then eyeballs and lids, ears.
+constexpr EllipsoidPart kEyeSocket = part(true, 33, 14, 96, 18, 10, 12, 9);
+constexpr std::array<EllipsoidPart, 2> kLateParts{{
+    part(true, 33, 13, 80, 13, 11, 12, 3),   // eyeballs and lids
+    part(true, 80, 2, -28, 7, 26, 17, 5)}};  // ears (simple bumps)
+
 /// Capsule from a to b whose radius goes linearly from ra to rb.
 double tapered_capsule(const Point& p, const Point& a, const Point& b, double ra, double rb) {
   const Vector ab = b - a;
@@ -112,50 +177,31 @@ HeadParams read_head_params(const std::string& path, const std::string& id) {
 double HeadShape::base_value(const Point& q) const {
   const double x = q.x(), ax = std::abs(x), y = q.y(), z = q.z();
   const Point m(ax, y, z);  // mirrored: paired parts are written for the +x side only
-  // Cranium and occiput.
-  double f = ellipsoid(q, 0, 30, 2, 76, 95, 97);
-  f = smin_ellipsoid(f, q, 0, 20, -42, 71, 78, 55, 10);
-  f = smin_ellipsoid(f, q, 0, 45, 40, 66, 55, 60, 12);  // broad, flat forehead
-  // Brow ridge, forehead-to-nose.
-  f = smin_ellipsoid(f, q, 0, 34, 82, 56, 12, 18, 8);
-  // Mid-face (maxilla), cheekbones and zygomatic arches.
-  f = smin_ellipsoid(f, q, 0, -28, 28, 72, 60, 68, 10);
-  f = smin_ellipsoid(f, m, 44, 2, 52, 22, 16, 26, 10);
-  f = smin_ellipsoid(f, m, 63, 3, 14, 11, 10, 42, 8);
-  // Mandible: body, angles (gonion), chin, lips.
-  f = smin_ellipsoid(f, q, 0, -70, 36, 52, 30, 58, 12);
-  f = smin_ellipsoid(f, m, 48, -66, -4, 12, 22, 18, 10);
-  f = smin_ellipsoid(f, q, 0, -86, 74, 22, 13, 16, 12);
-  f = smin_ellipsoid(f, q, 0, -46, 90, 20, 10, 12, 10);
-  f = smin_ellipsoid(f, q, 0, -62, 88, 18, 9, 11, 10);
-  // Nose: bridge from the sellion to the tip, tip, alae. Scaled in depth and breadth.
+  double f = kSkullParts[0].value(q);
+  for (std::size_t i = 1; i < kSkullParts.size(); ++i) f = smin_part(f, kSkullParts[i], q, m);
+  // Nose: scaled in depth and breadth.
   {
-    const double zb = 90.0;  // nose base depth: protrusion is scaled from here
-    const Point qn(x / s_nb_, y, zb + (z - zb) / s_np_);
+    const Point qn(x / s_nb_, y, kNoseBaseZ + (z - kNoseBaseZ) / s_np_);
     const Point qn_mirrored(std::abs(qn.x()), qn.y(), qn.z());
-    const Point bridge_top(0, 18, 92), bridge_tip(0, -14, 104);
     const double nose_scale = std::min(s_nb_, s_np_);  // > 0
     // Culling the whole nose: n ≥ min(capsule, tip, alae) − 6/4 − 5/4 (each smin lowers the
     // minimum by at most k/4), so f is unchanged when all three exceed t_nose. The capsule is
     // at least its distance to the segment's midpoint minus half its length and its largest
     // radius (8 mm).
-    const double t_nose = std::max((f + 5 + kCullSlack) / nose_scale + 2.75, 0.0);
-    const double capsule_reach = 0.5 * std::sqrt((bridge_tip - bridge_top).squared_length()) + 8.0 + t_nose + kCullSlack;
-    const bool nose_far = (qn - CGAL::midpoint(bridge_top, bridge_tip)).squared_length() > capsule_reach * capsule_reach &&
-                          ellipsoid_above(qn, 0, -18, 107, 10, 9, 10, t_nose) &&
-                          ellipsoid_above(qn_mirrored, 12, -26, 99, 8, 7, 8, t_nose);
+    const double t_nose =
+        std::max((f + kNoseBlend + kCullSlack) / nose_scale + 0.25 * (kNoseTip.k + kAla.k), 0.0);
+    const double capsule_reach = kBridgeHalfLength + kBridgeMaxRadius + t_nose + kCullSlack;
+    const bool nose_far = (qn - kBridgeMid).squared_length() > capsule_reach * capsule_reach &&
+                          part_above(kNoseTip, qn, t_nose) && part_above(kAla, qn_mirrored, t_nose);
     if (!nose_far) {
-      double n = tapered_capsule(qn, bridge_top, bridge_tip, 5.5, 8.0);
-      n = smin(n, ellipsoid(qn, 0, -18, 107, 10, 9, 10), 6);
-      n = smin(n, ellipsoid(qn_mirrored, 12, -26, 99, 8, 7, 8), 5);
-      f = smin(f, n * nose_scale, 5);
+      double n = tapered_capsule(qn, kBridgeTop, kBridgeTip, 5.5, kBridgeMaxRadius);
+      n = smin(n, kNoseTip.value(qn), kNoseTip.k);
+      n = smin(n, kAla.value(qn_mirrored), kAla.k);
+      f = smin(f, n * nose_scale, kNoseBlend);
     }
   }
-  // Eye sockets carved under the brow, eyeballs and lids put back.
-  if (!ellipsoid_above(m, 33, 14, 96, 18, 10, 12, 9 - f)) f = smax(f, -ellipsoid(m, 33, 14, 96, 18, 10, 12), 9);
-  f = smin_ellipsoid(f, m, 33, 13, 80, 13, 11, 12, 3);
-  // Ears (simple bumps with a helix rim).
-  f = smin_ellipsoid(f, m, 80, 2, -28, 7, 26, 17, 5);
+  if (!part_above(kEyeSocket, m, kEyeSocket.k - f)) f = smax(f, -kEyeSocket.value(m), kEyeSocket.k);
+  for (const EllipsoidPart& e : kLateParts) f = smin_part(f, e, q, m);
   // Neck: elliptic cylinder leaning forward, cut flat at the bottom.
   {
     const double t = (y + 160.0) / 120.0;  // 0 at the cut, 1 under the skull
@@ -180,12 +226,78 @@ double HeadShape::value(const Point& p) const {
   return base_value(Point(p.x() / sx(qy), qy, p.z() / s_hl_));
 }
 
+bool HeadShape::provably_outside(const Point& a, const Point& b) const {
+  // Box of the segment in the warped design frame of value(): q.y increases with p.y (two
+  // positive slopes meeting at the sellion), q.z = p.z/s_hl, and q.x = p.x/sx(q.y) with sx a
+  // convex combination of s_fw, s_hb, s_jw. The pad (1e-6 mm) covers rounding of the points.
+  const double pad = 1e-6;
+  auto warp_y = [&](double py) {
+    const double dy = py - kSellionY;
+    return kSellionY + dy / (dy >= 0 ? s_hh_ : s_fl_);
+  };
+  const double s_lo = std::min({s_fw_, s_hb_, s_jw_}), s_hi = std::max({s_fw_, s_hb_, s_jw_});
+  const double x_lo = std::min(a.x(), b.x()), x_hi = std::max(a.x(), b.x());
+  const std::array<double, 4> qx{x_lo / s_lo, x_lo / s_hi, x_hi / s_lo, x_hi / s_hi};
+  const Box q{{*std::min_element(qx.begin(), qx.end()) - pad, warp_y(std::min(a.y(), b.y())) - pad,
+               std::min(a.z(), b.z()) / s_hl_ - pad},
+              {*std::max_element(qx.begin(), qx.end()) + pad, warp_y(std::max(a.y(), b.y())) + pad,
+               std::max(a.z(), b.z()) / s_hl_ + pad}};
+  if (q.hi[1] < kNeckCutY) return true;  // below the flat cut
+  // Lower bound of base_value over the box: the same blend with a lower bound in place of each
+  // part (smin is nondecreasing in both arguments, n·scale in n; smax(f, ·) ≥ f, so the eye
+  // sockets are left out).
+  double f = part_lower_bound(kSkullParts[0], q);
+  for (std::size_t i = 1; i < kSkullParts.size(); ++i)
+    f = smin(f, part_lower_bound(kSkullParts[i], q), kSkullParts[i].k);
+  {
+    // The box in the nose's frame; the capsule is at least the distance to its midpoint minus
+    // half its length and its largest radius.
+    Box qn = q;
+    qn.lo[0] = q.lo[0] / s_nb_, qn.hi[0] = q.hi[0] / s_nb_;
+    qn.lo[2] = kNoseBaseZ + (q.lo[2] - kNoseBaseZ) / s_np_, qn.hi[2] = kNoseBaseZ + (q.hi[2] - kNoseBaseZ) / s_np_;
+    const double gx = axis_gap(qn.lo[0], qn.hi[0], kBridgeMid.x()), gy = axis_gap(qn.lo[1], qn.hi[1], kBridgeMid.y()),
+                 gz = axis_gap(qn.lo[2], qn.hi[2], kBridgeMid.z());
+    double n = std::sqrt(gx * gx + gy * gy + gz * gz) - kBridgeHalfLength - kBridgeMaxRadius;
+    n = smin(n, part_lower_bound(kNoseTip, qn), kNoseTip.k);
+    n = smin(n, part_lower_bound(kAla, qn), kAla.k);
+    f = smin(f, n * std::min(s_nb_, s_np_), kNoseBlend);
+  }
+  for (const EllipsoidPart& e : kLateParts) f = smin(f, part_lower_bound(e, q), e.k);
+  {
+    // Neck: n = smax((k0 − 1)·56, y + 20, 10) ≥ both; its axis cz increases with y.
+    const double cz_lo = -40.0 + 20.0 * (q.lo[1] + 160.0) / 120.0, cz_hi = -40.0 + 20.0 * (q.hi[1] + 160.0) / 120.0;
+    const double gx = axis_gap(q.lo[0], q.hi[0], 0.0), gz = std::max({q.lo[2] - cz_hi, cz_lo - q.hi[2], 0.0});
+    const double k0 = std::sqrt(gx * gx / (56.0 * 56.0) + gz * gz / (62.0 * 62.0));
+    f = smin(f, std::max((k0 - 1.0) * 56.0, q.lo[1] + 20.0), 14);
+  }
+  return f > kCullSlack;
+}
+
+namespace {
+
+/// The first k in [k_lo, k_hi] whose point at(k) is inside (!(value > 0)), or −1: the same k a
+/// march testing k_lo, k_lo + 1, ... in turn stops at, but runs of lattice points whose
+/// segment is provably outside are skipped whole (halving the run until it is, or is one point).
+template <class At>
+long first_inside(const HeadShape& head, long k_lo, long k_hi, const At& at) {
+  if (k_lo == k_hi) return head.value(at(k_lo)) > 0 ? -1 : k_lo;
+  if (head.provably_outside(at(k_lo), at(k_hi))) return -1;
+  const long k_mid = k_lo + (k_hi - k_lo) / 2;
+  const long k = first_inside(head, k_lo, k_mid, at);
+  return k >= 0 ? k : first_inside(head, k_mid + 1, k_hi, at);
+}
+
+}  // namespace
+
 Point HeadShape::ray_hit(const Vector& dir) const {
   const Vector d = dir / std::sqrt(dir.squared_length());
   const double step = 1.5, r_max = 300.0;  // parts are > 10 mm thick, so 1.5 mm steps miss none
-  double r = r_max;
-  while (r > 0 && value(centre_ + r * d) > 0) r -= step;
-  if (r <= 0) return centre_;
+  // March inwards over r_k = r_max − k·step > 0 (multiples of 0.5 mm: exact, the same radii as
+  // subtracting the step k times) to the first point inside.
+  const long k_end = long(std::ceil(r_max / step));  // r_k > 0 for k < k_end
+  const long k = first_inside(*this, 0, k_end - 1, [&](long i) { return centre_ + (r_max - double(i) * step) * d; });
+  if (k < 0) return centre_;
+  const double r = r_max - double(k) * step;
   double lo = r, hi = r + step;  // value(lo) <= 0 < value(hi)
   for (int i = 0; i < 40; ++i) {
     const double mid = 0.5 * (lo + hi);
@@ -195,10 +307,12 @@ Point HeadShape::ray_hit(const Vector& dir) const {
 }
 
 bool HeadShape::front_hit(double x, double y, Point* hit) const {
-  const double step = 1.0;
-  double z = 250.0;
-  while (z > -250.0 && value(Point(x, y, z)) > 0) z -= step;
-  if (z <= -250.0) return false;
+  const double step = 1.0, z_max = 250.0;
+  // March down z_k = z_max − k·step > −z_max (integers: exact) to the first point inside.
+  const long k_end = long(std::ceil(2 * z_max / step));
+  const long k = first_inside(*this, 0, k_end - 1, [&](long i) { return Point(x, y, z_max - double(i) * step); });
+  if (k < 0) return false;
+  const double z = z_max - double(k) * step;
   double lo = z, hi = z + step;
   for (int i = 0; i < 40; ++i) {
     const double mid = 0.5 * (lo + hi);

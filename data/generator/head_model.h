@@ -44,6 +44,10 @@ class HeadShape {
   /// The outermost surface point seen from far along −z at lateral position (x, y) (for the
   /// respirator rim), or false if the line misses the head.
   bool front_hit(double x, double y, Point* hit) const;
+  /// True if every point of the segment a–b is certainly outside (value > 0), from lower bounds
+  /// of each part over the segment's bounding box; false means "maybe not". Lets the ray
+  /// marches skip lattice points without changing which one they stop at.
+  bool provably_outside(const Point& a, const Point& b) const;
   /// Outward unit normal (normalised gradient) at p.
   Vector normal(const Point& p) const;
   /// Closed triangle mesh: icosahedron subdivided `level` times (level 7: 163,842 vertices).
