@@ -3,9 +3,11 @@
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
+#include <iostream>
 #include <string>
 
 #include "data/generator/head_model.h"
+#include "data/generator/random.h"
 #include "data/generator/respirator_model.h"
 #include "pipeline/read_scan.h"
 
@@ -43,6 +45,41 @@ TEST(head_model, clean_mesh_is_closed_manifold_without_self_intersections) {
   EXPECT_TRUE(CGAL::is_closed(mesh));
   EXPECT_FALSE(PMP::does_self_intersect(mesh));
   EXPECT_TRUE(PMP::is_outward_oriented(mesh));
+}
+
+TEST(head_model, provably_outside_segments_are_outside) {
+  // The ray marches skip what provably_outside accepts, so it must never accept a segment
+  // that touches the head; and it must accept most of the space around it to be of use.
+  const HeadShape head(read_head_params(std::string(SOURCE_DIR) + "/data/generator/headforms.json", "small"));
+  Rng rng(7);
+  int accepted = 0, far = 0, far_accepted = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Point a(rng.uniform(-150, 150), rng.uniform(-200, 150), rng.uniform(-150, 180));
+    const Point b = a + Vector(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20));
+    bool outside = true;  // sampled every ~0.1 mm
+    for (int k = 0; k <= 400 && outside; ++k) outside = head.value(a + (k / 400.0) * (b - a)) > 0;
+    const bool proven = head.provably_outside(a, b);
+    if (proven) {
+      ++accepted;
+      EXPECT_TRUE(outside) << "segment " << a << " – " << b << " has a point inside";
+    }
+    // 'far': 15 mm or more outside at both ends along the ray from the centre (a rough test).
+    const auto beyond = [&](const Point& p) {
+      const Vector d = p - head.centre();
+      return std::sqrt(d.squared_length()) >
+             std::sqrt((head.ray_hit(d) - head.centre()).squared_length()) + 15.0;
+    };
+    if (outside && beyond(a) && beyond(b)) {
+      ++far;
+      far_accepted += proven;
+    }
+  }
+  std::cout << "provably outside: " << accepted << " of 5000 random segments, " << far_accepted << " of " << far
+            << " segments 15 mm outside\n";
+  EXPECT_GT(accepted, 250);
+  EXPECT_GT(far_accepted, 0.9 * far) << far_accepted << " of " << far << " segments 15 mm outside";
+  EXPECT_FALSE(head.provably_outside(head.centre(), head.centre() + Vector(0, 0, 300)));
+  EXPECT_TRUE(head.provably_outside(Point(0, -10, 300), Point(0, -10, 150)));
 }
 
 TEST(respirator_model, shell_is_closed_symmetric_and_in_front_of_the_face) {
