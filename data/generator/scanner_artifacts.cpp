@@ -1,6 +1,7 @@
 #include "data/generator/scanner_artifacts.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <string>
@@ -33,21 +34,28 @@ Vector random_direction(Rng& rng) {
 /// Points along the edges where the surface is not smooth: open borders and edges with a
 /// dihedral angle above 60°. Holes placed near these would not be clean disks.
 std::vector<Point> rough_edge_points(const Triangles& tri) {
-  std::map<std::pair<std::size_t, std::size_t>, std::vector<std::size_t>> edge_faces;
+  // (edge's lower vertex, higher vertex, face), sorted: each edge's faces in a run, edges in
+  // vertex order and faces in index order (a map of vectors gave the same order, ~4x slower).
+  std::vector<std::array<std::size_t, 3>> edge_face;
+  edge_face.reserve(3 * tri.faces.size());
   for (std::size_t f = 0; f < tri.faces.size(); ++f)
     for (int k = 0; k < 3; ++k) {
       std::size_t a = tri.faces[f][k], b = tri.faces[f][(k + 1) % 3];
-      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(f);
+      edge_face.push_back({std::min(a, b), std::max(a, b), f});
     }
+  std::sort(edge_face.begin(), edge_face.end());
   const double cos60 = 0.5;
   std::vector<Point> out;
-  for (const auto& [e, fs] : edge_faces) {
-    bool rough = fs.size() != 2;
-    if (!rough) rough = unit(face_cross(tri, fs[0])) * unit(face_cross(tri, fs[1])) < cos60;
+  for (std::size_t begin = 0, end = 0; begin < edge_face.size(); begin = end) {
+    while (end < edge_face.size() && edge_face[end][0] == edge_face[begin][0] &&
+           edge_face[end][1] == edge_face[begin][1])
+      ++end;
+    bool rough = end - begin != 2;
+    if (!rough) rough = unit(face_cross(tri, edge_face[begin][2])) * unit(face_cross(tri, edge_face[begin + 1][2])) < cos60;
     if (!rough) continue;
     // Points every ≤ 2 mm along the edge (long edges, e.g. of a capped neck, matter too).
-    const Point& p = tri.points[e.first];
-    const Vector v = tri.points[e.second] - p;
+    const Point& p = tri.points[edge_face[begin][0]];
+    const Vector v = tri.points[edge_face[begin][1]] - p;
     const int n = 1 + int(std::sqrt(v.squared_length()) / 2.0);
     for (int k = 0; k <= n; ++k) out.push_back(p + (double(k) / n) * v);
   }
