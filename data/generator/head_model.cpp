@@ -245,10 +245,12 @@ bool HeadShape::provably_outside(const Point& a, const Point& b) const {
   if (q.hi[1] < kNeckCutY) return true;  // below the flat cut
   // Lower bound of base_value over the box: the same blend with a lower bound in place of each
   // part (smin is nondecreasing in both arguments, n·scale in n; smax(f, ·) ≥ f, so the eye
-  // sockets are left out).
+  // sockets are left out). smin(a, b, k) ≤ a, so the bound only falls from part to part: once
+  // it is not above the slack, the answer is no.
   double f = part_lower_bound(kSkullParts[0], q);
-  for (std::size_t i = 1; i < kSkullParts.size(); ++i)
+  for (std::size_t i = 1; i < kSkullParts.size() && f > kCullSlack; ++i)
     f = smin(f, part_lower_bound(kSkullParts[i], q), kSkullParts[i].k);
+  if (!(f > kCullSlack)) return false;
   {
     // The box in the nose's frame; the capsule is at least the distance to its midpoint minus
     // half its length and its largest radius.
@@ -263,6 +265,7 @@ bool HeadShape::provably_outside(const Point& a, const Point& b) const {
     f = smin(f, n * std::min(s_nb_, s_np_), kNoseBlend);
   }
   for (const EllipsoidPart& e : kLateParts) f = smin(f, part_lower_bound(e, q), e.k);
+  if (!(f > kCullSlack)) return false;
   {
     // Neck: n = smax((k0 − 1)·56, y + 20, 10) ≥ both; its axis cz increases with y.
     const double cz_lo = -40.0 + 20.0 * (q.lo[1] + 160.0) / 120.0, cz_hi = -40.0 + 20.0 * (q.hi[1] + 160.0) / 120.0;
