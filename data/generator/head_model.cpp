@@ -202,8 +202,9 @@ double HeadShape::base_value(const Point& q) const {
   }
   if (!part_above(kEyeSocket, m, kEyeSocket.k - f)) f = smax(f, -kEyeSocket.value(m), kEyeSocket.k);
   for (const EllipsoidPart& e : kLateParts) f = smin_part(f, e, q, m);
-  // Neck: elliptic cylinder leaning forward, cut flat at the bottom.
-  {
+  // Neck: elliptic cylinder leaning forward, cut flat at the bottom. Its value is at least
+  // y + 20 (the smax below), so above y = f − 6 it cannot change f (see kCullSlack).
+  if (!(y + 20.0 > f + 14 + kCullSlack)) {
     const double t = (y + 160.0) / 120.0;  // 0 at the cut, 1 under the skull
     const double cz = -40.0 + 20.0 * t;
     const double k0 = std::sqrt(ax * ax / (56.0 * 56.0) + (z - cz) * (z - cz) / (62.0 * 62.0));
