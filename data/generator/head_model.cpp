@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
+#include <cstdint>
+#include <unordered_map>
 #include <nlohmann/json.hpp>
 
 #include "pipeline/atomic_write.h"
@@ -344,9 +345,12 @@ Triangles HeadShape::mesh(int level) const {
       {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
       {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
   for (int l = 0; l < level; ++l) {
-    std::map<std::pair<std::size_t, std::size_t>, std::size_t> mid;
+    // Edge (lower, higher vertex; < 2^32 up to level 14) -> its midpoint's index; indices follow
+    // the order of first use, so the hash order does not matter.
+    std::unordered_map<std::uint64_t, std::size_t> mid;
+    mid.reserve(faces.size() * 3 / 2);
     auto midpoint = [&](std::size_t a, std::size_t b) {
-      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b));
       auto it = mid.find(key);
       if (it != mid.end()) return it->second;
       Vector v = dir[a] / std::sqrt(dir[a].squared_length()) + dir[b] / std::sqrt(dir[b].squared_length());
