@@ -40,13 +40,13 @@ constexpr double kCullSlack = 1e-3;
 struct EllipsoidPart {
   bool mirrored;
   double cx, cy, cz, rx, ry, rz, k;
-  double r_min, r_max, inv_rx2, inv_ry2, inv_rz2;  // derived, for the bounds below
+  double r_min, r_max, inv_r_min, inv_rx2, inv_ry2, inv_rz2;  // derived, for the bounds below
   double value(const Point& p) const { return ellipsoid(p, cx, cy, cz, rx, ry, rz); }
 };
 constexpr EllipsoidPart part(bool mirrored, double cx, double cy, double cz, double rx, double ry, double rz,
                              double k) {
   return {mirrored, cx, cy, cz, rx, ry, rz, k, std::min({rx, ry, rz}), std::max({rx, ry, rz}),
-          1 / (rx * rx), 1 / (ry * ry), 1 / (rz * rz)};
+          1 / std::min({rx, ry, rz}), 1 / (rx * rx), 1 / (ry * ry), 1 / (rz * rz)};
 }
 
 // Bounds of ellipsoid(): with u = p − c, k0 = |u/r| and k1 = |u/r²|, k0/k1 is a weighted mean
@@ -58,7 +58,7 @@ inline double part_bound_of_k0(const EllipsoidPart& e, double k0) { return (k0 -
 /// True if e.value(p) > t for certain: g(k0) > max(t, 0) when k0 > 1 + max(t, 0)/r_min.
 inline bool part_above(const EllipsoidPart& e, const Point& p, double t) {
   const double x = p.x() - e.cx, y = p.y() - e.cy, z = p.z() - e.cz;
-  const double k0_needed = 1.0 + (std::max(t, 0.0) + kCullSlack) / e.r_min;
+  const double k0_needed = 1.0 + (std::max(t, 0.0) + kCullSlack) * e.inv_r_min;
   return x * x * e.inv_rx2 + y * y * e.inv_ry2 + z * z * e.inv_rz2 > k0_needed * k0_needed;
 }
 /// smin(f, e.value(p), e.k), skipping the ellipsoid where it cannot change f.
