@@ -236,13 +236,20 @@ SymmetryResult find_symmetry_plane(const SurfaceMesh& mesh, std::size_t samples)
     const double z = (i + 0.5) / M, r = std::sqrt(1.0 - z * z), phi = i * 2.399963229728653;
     dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
   }
+  // Scored in two passes: all candidates on ~150 samples, then the best 30 again on ~600 (the
+  // mean of ~150 capped distances is within ~0.3 mm of the ~600 one, while the planes that can
+  // reach the symmetric basin score lowest by far more); a quarter of the queries of one pass.
   std::vector<std::pair<double, Plane>> scored;
   const std::size_t stride = std::max<std::size_t>(1, smp.p.size() / 600);
   for (const auto& n : dirs) {
     Plane pl{n.normalized(), n.normalized().dot(mean)};
-    scored.push_back({truncated_score(surf, smp, stride, pl, cap), pl});
+    scored.push_back({truncated_score(surf, smp, 4 * stride, pl, cap), pl});
   }
-  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  auto by_score = [](const auto& a, const auto& b) { return a.first < b.first; };
+  std::sort(scored.begin(), scored.end(), by_score);
+  scored.resize(std::min<std::size_t>(scored.size(), 30));
+  for (auto& [sc, pl] : scored) sc = truncated_score(surf, smp, stride, pl, cap);
+  std::sort(scored.begin(), scored.end(), by_score);
 
   // 2. Refine the best distinct candidates (> 12° apart) and keep the most symmetric result.
   std::vector<Plane> picked;
