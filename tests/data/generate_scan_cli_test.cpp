@@ -43,11 +43,10 @@ TEST(generate_scan, generated_head_is_deterministic) {
   const std::string common = "--kind head --id small --params " + std::string(SOURCE_DIR) +
                              "/data/generator/headforms.json --spacing-mm 1.5";
   ASSERT_EQ(run(common + " --out " + tmp + "/h1.ply"), 0);
-  ASSERT_EQ(run(common + " --out " + tmp + "/h2.ply"), 0);
-  EXPECT_EQ(slurp(tmp + "/h1.ply"), slurp(tmp + "/h2.ply"));
   // Every case starts from these bytes: they are those of the generator before its speed-ups
-  // (culling and skipping provably-outside march points must not change a bit). A deliberate
-  // change of the design or the scanner model updates the hashes (FNV-1a 64 of the PLY).
+  // (culling and skipping provably-outside march points must not change a bit), made by another
+  // build in another process, so they also show the run is deterministic. A deliberate change
+  // of the design or the scanner model updates the hashes (FNV-1a 64 of the PLY).
   EXPECT_EQ(fnv1a(slurp(tmp + "/h1.ply")), 0xb841630f57ca3d11ULL);
   ASSERT_EQ(run("--kind respirator --id onesize --params " + std::string(SOURCE_DIR) +
                 "/data/generator/respirators.json --spacing-mm 1.5 --out " + tmp + "/r1.ply"), 0);
