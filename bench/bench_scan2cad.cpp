@@ -19,7 +19,7 @@
 int main(int argc, char** argv) {
   std::string mesh_path, method_name = "auto", out_prefix;
   int points = 1000000, seed = 7;
-  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1, projection = -1, hole_cut = -1;
+  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1, projection = -1, hole_cut = -1, poisson_cell = -1;
   int density_points = -1;
   scan2cad::RepairOptions ropt;
   pipeline::Cli cli("bench_scan2cad", "Times reconstruct + repair on a simulated scan of a mesh.");
@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   cli.option("-M", "--method", &method_name, "reconstruction method (auto, poisson, advancing_front, scale_space)");
   cli.option("-c", "--cell", &cell, "grid simplification cell [mm] (-1: default)", -1, 50);
   cli.option("-C", "--denoised-cell", &denoised_cell, "grid cell after smoothing [mm] (-1: default)", -1, 50);
+  cli.option("-g", "--poisson-cell", &poisson_cell, "grid cell of Poisson's input after the normals [mm] (-1: default)", -1, 50);
   cli.option("-d", "--poisson-distance", &pdist, "Poisson accuracy [mm] (-1: default)", -1, 10);
   cli.option("-D", "--density-reference", &density_points, "thin denser scans to a scan of this many points, 0 = none (-1: default)", -1, 2000000000);
   cli.option("-T", "--cg-tolerance", &cg_tol, "Poisson CG relative tolerance (-1: default)", -1, 1);
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
     if (cell >= 0) opt.simplify_cell_mm = cell;
     if (denoised_cell >= 0) opt.denoised_cell_mm = denoised_cell;
     if (pdist > 0) opt.poisson_distance_mm = pdist;
+    if (poisson_cell >= 0) opt.poisson_cell_mm = poisson_cell;
     if (density_points >= 0) opt.density_reference_points = std::size_t(density_points);
     if (cg_tol > 0) opt.poisson_solver_tolerance = cg_tol;
     if (projection >= 0) opt.projection_max_move_mm = projection;

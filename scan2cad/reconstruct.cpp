@@ -630,10 +630,25 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     // Contouring: facets within opt.poisson_distance_mm of the implicit surface (CGAL's default
     // 0.375 × spacing would be 0.3–0.6 mm here, above the accuracy asked for) and of radius
     // ≤ 30 × spacing; repair remeshes the result anyway.
-    if (!poisson_reconstruction(pn, st.spacing_mm,
+    // Poisson's input may be thinned (opt.poisson_cell_mm): its implicit function only has to
+    // get the topology and the rough shape right, because the projection below moves its
+    // vertices onto all the denoised points. Thinned after the normals, which need the dense
+    // neighbourhoods (thinned before them, the ears' two sides mix: see denoised_cell_mm).
+    std::vector<PN> thinned;
+    double poisson_spacing_mm = st.spacing_mm;
+    if (opt.poisson_cell_mm > 0) {
+      clock.start("grid simplification of Poisson's input");
+      thinned = pn;
+      thinned.erase(CGAL::grid_simplify_point_set(thinned, opt.poisson_cell_mm, CGAL::parameters::point_map(PointMap())),
+                    thinned.end());
+      poisson_spacing_mm =
+          CGAL::compute_average_spacing<CGAL::Sequential_tag>(thinned, 6, CGAL::parameters::point_map(PointMap()));
+    }
+    const std::vector<PN>& poisson_input = opt.poisson_cell_mm > 0 ? thinned : pn;
+    if (!poisson_reconstruction(poisson_input, poisson_spacing_mm,
                                 // CGAL's surface mesher fails ("already inserted")
                                 // below ~0.1 × spacing on sparse clouds
-                                std::max(opt.poisson_distance_mm / st.spacing_mm, 0.1), opt.poisson_solver_tolerance,
+                                std::max(opt.poisson_distance_mm / poisson_spacing_mm, 0.1), opt.poisson_solver_tolerance,
                                 mesh, clock))
       throw pipeline::algorithm_failed("point cloud", "Poisson reconstruction failed (normals inconsistent?)");
     if (CGAL::is_closed(mesh) && !PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);

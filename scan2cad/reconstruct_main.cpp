@@ -25,6 +25,9 @@ int main(int argc, char** argv) {
   cli.option("-f", "--outlier-factor", &opt.outlier_factor, "outlier if mean k-NN distance > f x spacing", 1.1, 1e6);
   cli.option("-c", "--cell", &opt.simplify_cell_mm, "grid simplification cell [mm], 0 = none", 0.0, 50.0);
   cli.option("-C", "--denoised-cell", &opt.denoised_cell_mm, "grid cell after smoothing [mm], 0 = none (faster on dense scans, loses thin ears)", 0.0, 50.0);
+  cli.option("-g", "--poisson-cell", &opt.poisson_cell_mm,
+             "Poisson: grid cell of its input after the normals [mm], 0 = all points (cut and projection use all)",
+             0.0, 50.0);
   cli.option("-d", "--poisson-distance", &opt.poisson_distance_mm, "Poisson contouring accuracy [mm]", 1e-3, 10.0);
   int density_points = int(opt.density_reference_points);
   cli.option("-D", "--density-reference", &density_points,

@@ -25,49 +25,73 @@ namespace {
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, Primitive>>;
 
-std::vector<double> distances_from_to(const SurfaceMesh& from, const SurfaceMesh& to, std::size_t n,
-                                      const std::vector<Ball>& excluded, pipeline::Point* worst) {
+// Samples of `from` (n random points + every vertex) and their distances to `to`.
+struct Measured {
   std::vector<pipeline::Point> samples;
-  PMP::sample_triangle_mesh(from, std::back_inserter(samples),
+  std::vector<double> distance_mm;
+};
+
+Measured distances_from_to(const SurfaceMesh& from, const SurfaceMesh& to, std::size_t n) {
+  Measured m;
+  PMP::sample_triangle_mesh(from, std::back_inserter(m.samples),
                             CGAL::parameters::number_of_points_on_faces(n).random_seed(12345).do_sample_edges(false));
-  for (auto v : from.vertices()) samples.push_back(from.point(v));
-  samples.erase(std::remove_if(samples.begin(), samples.end(),
-                               [&](const pipeline::Point& p) {
-                                 for (const auto& b : excluded)
-                                   if (CGAL::squared_distance(p, b.centre) < b.radius_mm * b.radius_mm) return true;
-                                 return false;
-                               }),
-                samples.end());
-  if (samples.empty()) throw pipeline::bad_input("surface_distance", "every sample lies in an excluded region");
+  for (auto v : from.vertices()) m.samples.push_back(from.point(v));
   Tree tree(faces(to).first, faces(to).second, to);
   tree.accelerate_distance_queries();
-  std::vector<double> d(samples.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) d[i] = std::sqrt(tree.squared_distance(samples[i]));
-  *worst = samples[std::size_t(std::max_element(d.begin(), d.end()) - d.begin())];
-  return d;
+  m.distance_mm.resize(m.samples.size());
+  for (std::size_t i = 0; i < m.samples.size(); ++i) m.distance_mm[i] = std::sqrt(tree.squared_distance(m.samples[i]));
+  return m;
+}
+
+bool in_any(const pipeline::Point& p, const std::vector<Ball>& balls) {
+  for (const auto& b : balls)
+    if (CGAL::squared_distance(p, b.centre) < b.radius_mm * b.radius_mm) return true;
+  return false;
+}
+
+// The largest distance among the samples outside `excluded`, and where it is; pools those
+// distances into `all`. False if every sample is excluded.
+bool worst_outside(const Measured& m, const std::vector<Ball>& excluded, double* max_mm, pipeline::Point* worst,
+                   std::vector<double>& all) {
+  bool any = false;
+  for (std::size_t i = 0; i < m.samples.size(); ++i) {
+    if (!excluded.empty() && in_any(m.samples[i], excluded)) continue;
+    all.push_back(m.distance_mm[i]);
+    if (!any || m.distance_mm[i] > *max_mm) *max_mm = m.distance_mm[i], *worst = m.samples[i];
+    any = true;
+  }
+  return any;
 }
 
 }  // namespace
 
-SurfaceDistance surface_distance(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n,
-                                 const std::vector<Ball>& excluded) {
+std::vector<SurfaceDistance> surface_distances(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n,
+                                               const std::vector<std::vector<Ball>>& exclusions) {
   if (a.number_of_faces() == 0 || b.number_of_faces() == 0)
     throw pipeline::bad_input("surface_distance", "a mesh has no faces");
-  SurfaceDistance s;
-  std::vector<double> ab = distances_from_to(a, b, n, excluded, &s.a_worst),
-                      ba = distances_from_to(b, a, n, excluded, &s.b_worst);
-  s.a_to_b_max_mm = *std::max_element(ab.begin(), ab.end());
-  s.b_to_a_max_mm = *std::max_element(ba.begin(), ba.end());
-  s.hausdorff_mm = std::max(s.a_to_b_max_mm, s.b_to_a_max_mm);
-  std::vector<double> all = ab;
-  all.insert(all.end(), ba.begin(), ba.end());
-  double sum = 0;
-  for (double x : all) sum += x;
-  s.mean_mm = sum / double(all.size());
-  const std::size_t k = std::size_t(0.95 * double(all.size() - 1));
-  std::nth_element(all.begin(), all.begin() + long(k), all.end());
-  s.p95_mm = all[k];
-  return s;
+  const Measured ab = distances_from_to(a, b, n), ba = distances_from_to(b, a, n);
+  std::vector<SurfaceDistance> out;
+  for (const auto& excluded : exclusions) {
+    SurfaceDistance s;
+    std::vector<double> all;
+    if (!worst_outside(ab, excluded, &s.a_to_b_max_mm, &s.a_worst, all) ||
+        !worst_outside(ba, excluded, &s.b_to_a_max_mm, &s.b_worst, all))
+      throw pipeline::bad_input("surface_distance", "every sample lies in an excluded region");
+    s.hausdorff_mm = std::max(s.a_to_b_max_mm, s.b_to_a_max_mm);
+    double sum = 0;
+    for (double x : all) sum += x;
+    s.mean_mm = sum / double(all.size());
+    const std::size_t k = std::size_t(0.95 * double(all.size() - 1));
+    std::nth_element(all.begin(), all.begin() + long(k), all.end());
+    s.p95_mm = all[k];
+    out.push_back(s);
+  }
+  return out;
+}
+
+SurfaceDistance surface_distance(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n,
+                                 const std::vector<Ball>& excluded) {
+  return surface_distances(a, b, n, {excluded}).front();
 }
 
 }  // namespace scan2cad

@@ -34,4 +34,11 @@ struct Ball {
 SurfaceDistance surface_distance(const pipeline::SurfaceMesh& a, const pipeline::SurfaceMesh& b,
                                  std::size_t samples_per_mesh = 200000, const std::vector<Ball>& excluded = {});
 
+/// The same for several sets of excluded balls at the cost of one: the meshes are sampled and
+/// the distances measured once, then summarised once per set (e.g. {} and the scan's holes).
+/// @return one SurfaceDistance per entry of `exclusions`, in order
+std::vector<SurfaceDistance> surface_distances(const pipeline::SurfaceMesh& a, const pipeline::SurfaceMesh& b,
+                                               std::size_t samples_per_mesh,
+                                               const std::vector<std::vector<Ball>>& exclusions);
+
 }  // namespace scan2cad

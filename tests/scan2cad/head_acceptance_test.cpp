@@ -90,10 +90,11 @@ void run_one(HeadRun& run) {
       for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) soup.polygons.back().push_back(std::size_t(v));
     }
     const auto repaired = scan2cad::repair(soup, scan2cad::ScanKind::head, {}, &run.report);
-    run.distance = scan2cad::surface_distance(repaired, scan.clean_mesh);
     std::vector<scan2cad::Ball> holes;
     for (const auto& h : scan.holes) holes.push_back({h.centre, h.radius_mm + 3.0});
-    run.distance_outside_holes = scan2cad::surface_distance(repaired, scan.clean_mesh, 200000, holes);
+    const auto d = scan2cad::surface_distances(repaired, scan.clean_mesh, 200000, {{}, holes});
+    run.distance = d[0];
+    run.distance_outside_holes = d[1];
   } catch (const std::exception& e) {
     run.error = e.what();
   }

@@ -93,5 +93,14 @@ TEST(surface_distance, a_bump_is_found_and_an_excluded_ball_leaves_it_out) {
   EXPECT_NEAR(all.hausdorff_mm, 5.0, 0.05);  // the tip itself is a sample (every vertex is)
   const auto outside = scan2cad::surface_distance(bumped, sphere, 20000, {{tip, 12.0}});
   EXPECT_LT(outside.hausdorff_mm, 1e-6);
+  // both at once (one sampling, one set of queries) give the same figures as the two calls, up
+  // to rounding: outside the ball the samples lie on the sphere, at distances of ~1e-14 mm
+  const auto both = scan2cad::surface_distances(bumped, sphere, 20000, {{}, {{tip, 12.0}}});
+  ASSERT_EQ(both.size(), 2u);
+  EXPECT_NEAR(both[0].hausdorff_mm, all.hausdorff_mm, 1e-9);
+  EXPECT_NEAR(both[0].p95_mm, all.p95_mm, 1e-9);
+  EXPECT_NEAR(both[1].hausdorff_mm, outside.hausdorff_mm, 1e-9);
+  EXPECT_NEAR(both[1].mean_mm, outside.mean_mm, 1e-9);
+  EXPECT_NE(both[0].hausdorff_mm, both[1].hausdorff_mm);
   EXPECT_THROW(scan2cad::surface_distance(bumped, sphere, 1000, {{CGAL::ORIGIN, 100.0}}), pipeline::Error);
 }
