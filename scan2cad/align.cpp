@@ -169,7 +169,7 @@ AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt) {
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - pl.n * pl.n.transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P * cov * P);
   const Vector3d a = eig.eigenvectors().col(2).normalized(), b = pl.n.cross(a).normalized();
-  Vector3d y, z;
+  Vector3d y = Vector3d::Zero(), z = Vector3d::Zero();  // both set by the axes functions (or they throw)
   if (opt.kind == AlignKind::head)
     head_axes(s, pl, a, b, y, z);
   else

@@ -51,7 +51,8 @@ struct AlignResult {
 /// @return the transform and symmetry diagnostics
 /// @throws pipeline::Error(bad_input) on an empty mesh;
 ///         pipeline::Error(algorithm) if no symmetry plane or no face direction is found.
-/// @note O(#samples × (150 + ICP iterations) × log #F); about 1 s for a 20k-face head.
+/// @note O(#samples × (150 + ICP iterations) × log #F), closest-point queries bounded to ~4 % of
+///       the object size; ~0.3 s CPU for a 20k-face head, ~1.2 s for a 327k-face one.
 AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt);
 
 /// Applies a rigid transform to every vertex of `mesh` (in place).
