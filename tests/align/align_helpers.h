@@ -31,14 +31,17 @@ inline Eigen::Matrix4d random_pose(unsigned seed) {
 /// Writes `mesh` moved by G and converted to metres to a temporary PLY, reads it back through
 /// the user path (unit detection, soup repair) and returns it [mm].
 inline pipeline::SurfaceMesh posed_in_metres(pipeline::SurfaceMesh mesh, const Eigen::Matrix4d& G,
-                                             const std::string& name, double expected_mm) {
+                                             const std::string& name, double expected_mm,
+                                             unsigned shuffle_seed = 42) {
   Eigen::Matrix4d S = G;
   S.topRows(3) *= 1e-3;  // mm → m
   scan2cad::apply_transform(mesh, S);
   // Shuffle the face order so the posed copy is sampled differently (otherwise the fixed-seed
   // sampling would see exactly the moved samples and the test could not show sampling noise).
+  // With the same shuffle, every pose sees the same samples (moved): vary `shuffle_seed` with the
+  // pose to see different samplings.
   std::vector<pipeline::FaceIndex> fs(mesh.faces().begin(), mesh.faces().end());
-  std::shuffle(fs.begin(), fs.end(), std::mt19937(42));
+  std::shuffle(fs.begin(), fs.end(), std::mt19937(shuffle_seed));
   pipeline::SurfaceMesh shuffled;
   for (auto v : mesh.vertices()) shuffled.add_vertex(mesh.point(v));
   for (auto f : fs) {
