@@ -218,6 +218,19 @@ void sample_moments(const SurfaceSamples& s, Eigen::Vector3d& mean, Eigen::Matri
   cov /= double(s.p.size());
 }
 
+std::vector<double> capped_distances(const SurfaceMesh& mesh, const std::vector<Eigen::Vector3d>& queries,
+                                     double cap_mm, bool seed_with_previous) {
+  const Surface surf(mesh);
+  std::vector<double> d;
+  d.reserve(queries.size());
+  Match m;
+  for (const auto& q : queries) {
+    surf.closest_within(q, cap_mm, m, seed_with_previous ? &m : nullptr);
+    d.push_back(m.found() ? m.dist_mm : cap_mm);
+  }
+  return d;
+}
+
 SymmetryResult find_symmetry_plane(const SurfaceMesh& mesh, std::size_t samples) {
   const SurfaceSamples smp = sample_surface(mesh, samples);
   Eigen::Vector3d mean;

@@ -38,6 +38,14 @@ struct SymmetryResult {
   double inlier_fraction = 0.0;  ///< share of samples whose mirror image lies near the surface
 };
 
+/// Distances [mm] from `queries` to the surface, capped: min(distance, cap_mm), by the bounded
+/// closest-point queries of the symmetry search (a box test, then CGAL's hinted exact query).
+/// With `seed_with_previous`, each query is seeded with the previous query's match, as the ICP
+/// seeds a sample's query with its last match. Exposed so a test can compare it with plain
+/// unbounded CGAL queries.
+std::vector<double> capped_distances(const pipeline::SurfaceMesh& mesh, const std::vector<Eigen::Vector3d>& queries,
+                                     double cap_mm, bool seed_with_previous = false);
+
 /// Finds the plane of best reflective symmetry of a closed or open surface.
 /// Candidates: the 3 principal axes and 150 directions over a hemisphere, each through the area
 /// centroid, scored by the truncated mean distance of reflected samples to the surface; the best
