@@ -4,22 +4,22 @@
 // closed, manifold, free of self-intersections, with symmetric Hausdorff distance ≤ 1.0 mm and
 // 95th-percentile distance ≤ 0.3 mm to the surface that was scanned.
 //
-// The seven heads are run once per test process, two at a time (2-core machine), and every
-// test of this file reads the same results (gtest_discover_tests runs each TEST in its own
-// process, so the requirement is split by what it asks, not by head).
+// One test per head, so ctest runs each in its own process and spreads them over the cores. One
+// head per process also makes the figures reproducible: two heads reconstructed at once in one
+// process gave different meshes run to run (see scan2cad/README.md). Within a process each head is
+// computed once and shared by its two tests (the DISABLED one runs only on request).
+// HEAD_ACCEPTANCE_OUT=dir writes each head's reconstructed and repaired meshes for inspection.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <atomic>
 #include <cstdlib>
 #include <cstdio>
-#include <mutex>
+#include <map>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "data/generator/generate_scan.h"
 #include "pipeline/error.h"
+#include "pipeline/write_mesh.h"
 #include "scan2cad/reconstruct.h"
 #include "scan2cad/repair.h"
 #include "scan2cad/surface_distance.h"
@@ -50,32 +50,23 @@ generator::GenerateRequest scan_request() {
   return rq;
 }
 
-std::vector<HeadRun> make_runs() {
-  std::vector<HeadRun> runs;
-  for (const char* size : {"medium", "large"}) {
-    HeadRun r{std::string("NIOSH_") + size, scan_request(), {}, {}, {}, {}, {}};
-    r.request.mesh_path = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_" + size + "_20k.stl";
-    runs.push_back(r);
-  }
-  for (const char* id : {"small", "medium", "large", "longnarrow", "shortwide"}) {
-    HeadRun r{std::string("generated_") + id, scan_request(), {}, {}, {}, {}, {}};
+const char* const kHeads[] = {"NIOSH_medium",    "NIOSH_large",          "generated_small",  "generated_medium",
+                              "generated_large", "generated_longnarrow", "generated_shortwide"};
+
+HeadRun make_run(const std::string& name) {
+  HeadRun r{name, scan_request(), {}, {}, {}, {}, {}};
+  const std::string niosh = "NIOSH_", generated = "generated_";
+  if (name.rfind(niosh, 0) == 0) {
+    r.request.mesh_path = std::string(SHARED_DATA_DIR) + "/headforms/" + name + "_20k.stl";
+  } else {
     r.request.kind = "head";
-    r.request.id = id;
+    r.request.id = name.substr(generated.size());
     r.request.params_path = std::string(SOURCE_DIR) + "/data/generator/headforms.json";
     // the three random holes of the requirement; the model's own chin/ear holes are left out
     // so the generated heads are scanned exactly like the NIOSH ones
     r.request.no_model_holes = true;
-    runs.push_back(r);
   }
-  // for experiments: HEAD_ACCEPTANCE_ONLY=NIOSH_large,generated_small runs those heads only
-  if (const char* only = std::getenv("HEAD_ACCEPTANCE_ONLY")) {
-    const std::string list = std::string(",") + only + ",";
-    runs.erase(std::remove_if(runs.begin(), runs.end(),
-                              [&](const HeadRun& r) { return list.find("," + r.name + ",") == std::string::npos; }),
-               runs.end());
-    std::printf("HEAD_ACCEPTANCE_ONLY: %zu of the seven heads run\n", runs.size());
-  }
-  return runs;
+  return r;
 }
 
 void run_one(HeadRun& run) {
@@ -90,6 +81,11 @@ void run_one(HeadRun& run) {
       for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) soup.polygons.back().push_back(std::size_t(v));
     }
     const auto repaired = scan2cad::repair(soup, scan2cad::ScanKind::head, {}, &run.report);
+    // for inspection: HEAD_ACCEPTANCE_OUT=dir writes each head's reconstructed and repaired meshes
+    if (const char* dir = std::getenv("HEAD_ACCEPTANCE_OUT")) {
+      pipeline::write_surface_mesh(std::string(dir) + "/" + run.name + "_reconstructed.ply", mesh);
+      pipeline::write_surface_mesh(std::string(dir) + "/" + run.name + "_repaired.ply", repaired);
+    }
     std::vector<scan2cad::Ball> holes;
     for (const auto& h : scan.holes) holes.push_back({h.centre, h.radius_mm + 3.0});
     const auto d = scan2cad::surface_distances(repaired, scan.clean_mesh, 200000, {{}, holes});
@@ -100,53 +96,45 @@ void run_one(HeadRun& run) {
   }
 }
 
-// The seven runs, computed on first use by two worker threads.
-const std::vector<HeadRun>& head_runs() {
-  static std::vector<HeadRun> runs;
-  static std::once_flag once;
-  std::call_once(once, [] {
-    runs = make_runs();
-    std::atomic<std::size_t> next{0};
-    auto worker = [&] {
-      for (std::size_t i; (i = next++) < runs.size();) run_one(runs[i]);
-    };
-    std::thread a(worker), b(worker);
-    a.join();
-    b.join();
-    for (const auto& r : runs)
-      std::printf("%-22s hausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f %.1f %.1f) "
-                  "p95 %.3f mm mean %.3f mm closed %d manifold %d self-intersecting %d %s\n",
-                  r.name.c_str(), r.distance.hausdorff_mm, r.distance.a_to_b_max_mm, r.distance.a_worst.x(),
-                  r.distance.a_worst.y(), r.distance.a_worst.z(), r.distance.b_to_a_max_mm, r.distance.b_worst.x(),
-                  r.distance.b_worst.y(), r.distance.b_worst.z(), r.distance.p95_mm, r.distance.mean_mm,
-                  r.report.closed, r.report.manifold, r.report.self_intersecting_after, r.error.c_str());
-    for (const auto& r : runs)
-      std::printf("%-22s outside the holes: hausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f "
-                  "%.1f %.1f)\n",
-                  r.name.c_str(), r.distance_outside_holes.hausdorff_mm, r.distance_outside_holes.a_to_b_max_mm,
-                  r.distance_outside_holes.a_worst.x(), r.distance_outside_holes.a_worst.y(),
-                  r.distance_outside_holes.a_worst.z(), r.distance_outside_holes.b_to_a_max_mm,
-                  r.distance_outside_holes.b_worst.x(), r.distance_outside_holes.b_worst.y(),
-                  r.distance_outside_holes.b_worst.z());
-    for (const auto& r : runs)
-      for (const auto& h : r.holes)
-        std::printf("%-22s hole centre %.1f %.1f %.1f diameter %.1f mm\n", r.name.c_str(), h.centre.x(), h.centre.y(),
-                    h.centre.z(), 2 * h.radius_mm);
-  });
-  return runs;
+// The head's run, computed on first use and kept for the process's other test of that head.
+const HeadRun& head_run(const std::string& name) {
+  static std::map<std::string, HeadRun> runs;
+  auto [it, first_use] = runs.try_emplace(name);
+  if (first_use) {
+    it->second = make_run(name);
+    run_one(it->second);
+    const auto& r = it->second;
+    std::printf("%-22s hausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f %.1f %.1f) "
+                "p95 %.3f mm mean %.3f mm closed %d manifold %d self-intersecting %d %s\n",
+                r.name.c_str(), r.distance.hausdorff_mm, r.distance.a_to_b_max_mm, r.distance.a_worst.x(),
+                r.distance.a_worst.y(), r.distance.a_worst.z(), r.distance.b_to_a_max_mm, r.distance.b_worst.x(),
+                r.distance.b_worst.y(), r.distance.b_worst.z(), r.distance.p95_mm, r.distance.mean_mm,
+                r.report.closed, r.report.manifold, r.report.self_intersecting_after, r.error.c_str());
+    std::printf("%-22s outside the holes: hausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f "
+                "%.1f %.1f)\n",
+                r.name.c_str(), r.distance_outside_holes.hausdorff_mm, r.distance_outside_holes.a_to_b_max_mm,
+                r.distance_outside_holes.a_worst.x(), r.distance_outside_holes.a_worst.y(),
+                r.distance_outside_holes.a_worst.z(), r.distance_outside_holes.b_to_a_max_mm,
+                r.distance_outside_holes.b_worst.x(), r.distance_outside_holes.b_worst.y(),
+                r.distance_outside_holes.b_worst.z());
+    for (const auto& h : r.holes)
+      std::printf("%-22s hole centre %.1f %.1f %.1f diameter %.1f mm\n", r.name.c_str(), h.centre.x(), h.centre.y(),
+                  h.centre.z(), 2 * h.radius_mm);
+  }
+  return it->second;
 }
+
+class head_acceptance : public ::testing::TestWithParam<const char*> {};
 
 }  // namespace
 
-TEST(head_acceptance, seven_heads_are_closed_manifold_and_within_p95) {
-  for (const auto& r : head_runs()) {
-    SCOPED_TRACE(r.name);
-    ASSERT_TRUE(r.error.empty()) << r.error;
-    EXPECT_TRUE(r.report.closed);
-    EXPECT_TRUE(r.report.manifold);
-    EXPECT_FALSE(r.report.self_intersecting_after);
-    EXPECT_LE(r.distance.p95_mm, 0.3);
-  }
+TEST_P(head_acceptance, closed_manifold_and_within_p95) {
+  const HeadRun& r = head_run(GetParam());
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_TRUE(r.report.closed);
+  EXPECT_TRUE(r.report.manifold);
+  EXPECT_FALSE(r.report.self_intersecting_after);
+  EXPECT_LE(r.distance.p95_mm, 0.3);
 }
 
 // DISABLED: the requirement is not met. Measured 2026-11-24 at commit d6cf7e4 (Poisson vertices
@@ -175,12 +163,15 @@ TEST(head_acceptance, seven_heads_are_closed_manifold_and_within_p95) {
 // (2.21), shortwide over the jaw 2.48. With Poisson on a 1 mm grid copy of the points (session 7,
 // ReconstructOptions::poisson_cell_mm; ranges over 2-4 runs, since this in-process test is not
 // reproducible run to run, see scan2cad/README.md): 4.01-4.07, 2.95-3.01, 1.41-1.54, 1.75-1.78,
-// 1.58-2.90 (its chin-hole fill), 1.49-1.79, 2.71-2.72 mm; p95 0.175-0.193 mm.
-// Run with --gtest_also_run_disabled_tests.
-TEST(head_acceptance, DISABLED_seven_heads_within_1mm_hausdorff) {
-  for (const auto& r : head_runs()) {
-    SCOPED_TRACE(r.name);
-    ASSERT_TRUE(r.error.empty()) << r.error;
-    EXPECT_LE(r.distance.hausdorff_mm, 1.0);
-  }
+// 1.58-2.90 (its chin-hole fill), 1.49-1.79, 2.71-2.72 mm; p95 0.175-0.193 mm. One head per
+// process (this file since then, reproducible): 4.06 (fin), 2.91 (ear slot), 1.44, 1.44, 2.80
+// (chin-hole fill), 1.49, 2.34 mm; p95 0.175-0.193 mm.
+// Run with --gtest_also_run_disabled_tests (one head: --gtest_filter="*NIOSH_large").
+TEST_P(head_acceptance, DISABLED_within_1mm_hausdorff) {
+  const HeadRun& r = head_run(GetParam());
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_LE(r.distance.hausdorff_mm, 1.0);
 }
+
+INSTANTIATE_TEST_SUITE_P(head, head_acceptance, ::testing::ValuesIn(kHeads),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
