@@ -96,12 +96,14 @@ std::vector<Sample> cast_ray_grid(const SurfaceMesh& m, double outward, const Ve
     const int j0 = std::max(0, int(std::ceil(std::min({ga.y(), gb.y(), gc.y()}) - margin)));
     const int j1 = std::min(nv - 1, int(std::floor(std::max({ga.y(), gb.y(), gc.y()}) + margin)));
     if (i0 > i1 || j0 > j1) continue;
-    const pipeline::Kernel::Triangle_3 triangle(pa, pb, pc);
+    // Vertex order and argument order as the AABB tree's face primitive and traits use them, so
+    // that the constructed hit points are the same to the last bit.
+    const pipeline::Kernel::Triangle_3 triangle(pb, pc, pa);
     for (int i = i0; i <= i1; ++i)
       for (int j = j0; j <= j1; ++j) {
         const Vector3d o = ray_origin(i, j);
         const pipeline::Kernel::Ray_3 ray(pipeline::Point(o.x(), o.y(), o.z()), d);
-        const auto hit = CGAL::intersection(triangle, ray);
+        const auto hit = CGAL::intersection(ray, triangle);
         if (!hit) continue;
         Nearest& n = nearest[std::size_t(i) * std::size_t(nv) + std::size_t(j)];
         if (const pipeline::Point* p = boost::get<pipeline::Point>(&*hit)) {
