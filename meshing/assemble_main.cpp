@@ -6,8 +6,8 @@
 //          attach_* points, bone / back_of_head), --deck1 stage1.json, --deck2 stage2.json
 //          (solve/README.md format; stage 2 starts from <deck2 dir>/stage1/state.bin unless --state1)
 // Sample run:
-//   assemble --head head/layers.msh --respirator respirator/layers.msh --straps straps.msh \
-//     --landmarks head/landmarks.json --materials data/materials.json --out model.msh \
+//   assemble --head head/layers.msh --respirator respirator/layers.msh --straps straps.msh
+//     --landmarks head/landmarks.json --materials data/materials.json --out model.msh
 //     --deck1 stage1.json --deck2 stage2.json
 #include <nlohmann/json.hpp>
 

@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pipeline {
@@ -45,6 +46,8 @@ class Cli {
 
  private:
   struct Opt {
+    Opt(std::string s, std::string l, std::string h)
+        : short_flag(std::move(s)), long_flag(std::move(l)), help(std::move(h)) {}
     std::string short_flag, long_flag, help;
     bool is_flag = false, is_required = false, seen = false;
     std::function<void(const std::string&)> set;

@@ -112,7 +112,7 @@ void check_cup(const std::string& id) {
               "%.2f mm | output->clean max %.3f mm | faces %zu, %zu holes filled, %zu self-intersecting "
               "removed\n",
               id.c_str(), run.stats.wall_mm, near_mm, 100.0 * double(near) / double(inner),
-              100.0 * double(facing) / double(near), worst, d.a_to_b_max_mm, out.number_of_faces(),
+              100.0 * double(facing) / double(near), worst, d.a_to_b_max_mm, std::size_t(out.number_of_faces()),
               run.report.holes.size() - 1, run.report.self_intersecting_faces_removed);
   // the random hole (≤ 20 mm across, through both sides) is filled smoothly: allow 2 %
   EXPECT_GT(double(near), 0.98 * double(inner)) << "farthest " << worst << " mm";
