@@ -105,6 +105,11 @@ class StepClock {
   bool running_ = false;
 };
 
+// Mean distance to the 6 nearest neighbours: the spacing CGAL's Poisson reconstruction uses.
+double poisson_spacing(const std::vector<PN>& pn) {
+  return CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, 6, CGAL::parameters::point_map(PointMap()));
+}
+
 // Keeps a seeded pseudo-random subset of about `keep_points` of the points, in their order.
 // A random subset of a scan is a scan of the same surface at a lower density, with the same
 // noise, holes and outlier share; no CGAL function does this reproducibly
@@ -621,15 +626,12 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   }
   // spacing = mean distance to the 6 nearest neighbours (CGAL's Poisson convention)
   clock.start("spacing");
-  st.spacing_mm = CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, 6, CGAL::parameters::point_map(PointMap()));
+  st.spacing_mm = poisson_spacing(pn);
   st.points_used = pn.size();
 
   // 5. Reconstruction.
   SurfaceMesh mesh;
   if (opt.method == ReconstructMethod::poisson) {
-    // Contouring: facets within opt.poisson_distance_mm of the implicit surface (CGAL's default
-    // 0.375 × spacing would be 0.3–0.6 mm here, above the accuracy asked for) and of radius
-    // ≤ 30 × spacing; repair remeshes the result anyway.
     // Poisson's input may be thinned (opt.poisson_cell_mm): its implicit function only has to
     // get the topology and the rough shape right, because the projection below moves its
     // vertices onto all the denoised points. Thinned after the normals, which need the dense
@@ -641,10 +643,12 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       thinned = pn;
       thinned.erase(CGAL::grid_simplify_point_set(thinned, opt.poisson_cell_mm, CGAL::parameters::point_map(PointMap())),
                     thinned.end());
-      poisson_spacing_mm =
-          CGAL::compute_average_spacing<CGAL::Sequential_tag>(thinned, 6, CGAL::parameters::point_map(PointMap()));
+      poisson_spacing_mm = poisson_spacing(thinned);
     }
     const std::vector<PN>& poisson_input = opt.poisson_cell_mm > 0 ? thinned : pn;
+    // Contouring: facets within opt.poisson_distance_mm of the implicit surface (CGAL's default
+    // 0.375 × spacing would be 0.3–0.6 mm here, above the accuracy asked for) and of radius
+    // ≤ 30 × spacing; repair remeshes the result anyway.
     if (!poisson_reconstruction(poisson_input, poisson_spacing_mm,
                                 // CGAL's surface mesher fails ("already inserted")
                                 // below ~0.1 × spacing on sparse clouds

@@ -55,7 +55,7 @@ bool worst_outside(const Measured& m, const std::vector<Ball>& excluded, double*
                    std::vector<double>& all) {
   bool any = false;
   for (std::size_t i = 0; i < m.samples.size(); ++i) {
-    if (!excluded.empty() && in_any(m.samples[i], excluded)) continue;
+    if (in_any(m.samples[i], excluded)) continue;
     all.push_back(m.distance_mm[i]);
     if (!any || m.distance_mm[i] > *max_mm) *max_mm = m.distance_mm[i], *worst = m.samples[i];
     any = true;

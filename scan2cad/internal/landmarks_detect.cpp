@@ -3,7 +3,7 @@
 // Why by hand: no library detects facial landmarks on a mesh. The geometry is simple and
 // written here: the midline profile is the mesh's section by x = 0; lateral landmarks are
 // "soft" extremes (area-weighted soft-argmax) over a dense sampling of the surface by a fixed
-// grid of parallel rays (CGAL AABB tree first-intersection queries), with soft (smoothstep)
+// grid of parallel rays (CGAL ray-triangle tests, see cast_ray_grid), with soft (smoothstep)
 // windows. The ray grid depends on the head's other landmarks, never on its vertices, and every
 // window edge is a ramp, so the result is a smooth function of the surface: re-meshing the same
 // head moves it by the (sub-mm) change of the surface only. Extremes over face centroids with

@@ -96,6 +96,13 @@ void run_one(HeadRun& run) {
   }
 }
 
+void print_distance(const std::string& name, const char* what, const scan2cad::SurfaceDistance& d) {
+  std::printf("%-22s %shausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f %.1f %.1f) "
+              "p95 %.3f mm mean %.3f mm\n",
+              name.c_str(), what, d.hausdorff_mm, d.a_to_b_max_mm, d.a_worst.x(), d.a_worst.y(), d.a_worst.z(),
+              d.b_to_a_max_mm, d.b_worst.x(), d.b_worst.y(), d.b_worst.z(), d.p95_mm, d.mean_mm);
+}
+
 // The head's run, computed on first use and kept for the process's other test of that head.
 const HeadRun& head_run(const std::string& name) {
   static std::map<std::string, HeadRun> runs;
@@ -104,19 +111,10 @@ const HeadRun& head_run(const std::string& name) {
     it->second = make_run(name);
     run_one(it->second);
     const auto& r = it->second;
-    std::printf("%-22s hausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f %.1f %.1f) "
-                "p95 %.3f mm mean %.3f mm closed %d manifold %d self-intersecting %d %s\n",
-                r.name.c_str(), r.distance.hausdorff_mm, r.distance.a_to_b_max_mm, r.distance.a_worst.x(),
-                r.distance.a_worst.y(), r.distance.a_worst.z(), r.distance.b_to_a_max_mm, r.distance.b_worst.x(),
-                r.distance.b_worst.y(), r.distance.b_worst.z(), r.distance.p95_mm, r.distance.mean_mm,
-                r.report.closed, r.report.manifold, r.report.self_intersecting_after, r.error.c_str());
-    std::printf("%-22s outside the holes: hausdorff %.3f mm (out->ref %.3f at %.1f %.1f %.1f, ref->out %.3f at %.1f "
-                "%.1f %.1f)\n",
-                r.name.c_str(), r.distance_outside_holes.hausdorff_mm, r.distance_outside_holes.a_to_b_max_mm,
-                r.distance_outside_holes.a_worst.x(), r.distance_outside_holes.a_worst.y(),
-                r.distance_outside_holes.a_worst.z(), r.distance_outside_holes.b_to_a_max_mm,
-                r.distance_outside_holes.b_worst.x(), r.distance_outside_holes.b_worst.y(),
-                r.distance_outside_holes.b_worst.z());
+    print_distance(r.name, "", r.distance);
+    print_distance(r.name, "outside the holes: ", r.distance_outside_holes);
+    std::printf("%-22s closed %d manifold %d self-intersecting %d %s\n", r.name.c_str(), r.report.closed,
+                r.report.manifold, r.report.self_intersecting_after, r.error.c_str());
     for (const auto& h : r.holes)
       std::printf("%-22s hole centre %.1f %.1f %.1f diameter %.1f mm\n", r.name.c_str(), h.centre.x(), h.centre.y(),
                   h.centre.z(), 2 * h.radius_mm);
