@@ -27,11 +27,12 @@ namespace {
 
 const char* head_names[] = {"back_of_head", "forehead", "left_cheek", "right_cheek", "chin"};
 
+// The triangles of part `label` (label < 0: every face).
 std::vector<pipeline::Kernel::Triangle_3> part_triangles(const SurfaceMesh& m, int label) {
   const auto part = m.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
   std::vector<pipeline::Kernel::Triangle_3> out;
   for (auto f : m.faces())
-    if (part[f] == label) {
+    if (label < 0 || part[f] == label) {
       auto h = m.halfedge(f);
       out.emplace_back(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
     }
@@ -235,12 +236,7 @@ SurfaceMesh fit_parts(const SurfaceMesh& input, const std::string& kind, double 
   using Triangles = std::vector<pipeline::Kernel::Triangle_3>;
   using Primitive = CGAL::AABB_triangle_primitive<pipeline::Kernel, Triangles::const_iterator>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, Primitive>>;
-  Triangles coarse_triangles;
-  for (auto f : coarse.faces()) {
-    const auto h = coarse.halfedge(f);
-    coarse_triangles.emplace_back(coarse.point(coarse.source(h)), coarse.point(coarse.target(h)),
-                                  coarse.point(coarse.target(coarse.next(h))));
-  }
+  const Triangles coarse_triangles = part_triangles(coarse, -1);
   Tree tree(coarse_triangles.begin(), coarse_triangles.end());
   tree.accelerate_distance_queries();
   SurfaceMesh mesh = input;
@@ -540,6 +536,10 @@ std::vector<FitDeviation> fit_deviation(const SurfaceMesh& reference, const Surf
   using Triangles = std::vector<pipeline::Kernel::Triangle_3>;
   using Primitive = CGAL::AABB_triangle_primitive<pipeline::Kernel, Triangles::const_iterator>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, Primitive>>;
+  const Triangles whole_reference = part_triangles(reference, -1), whole_fitted = part_triangles(fitted, -1);
+  Tree reference_tree(whole_reference.begin(), whole_reference.end()), fitted_tree(whole_fitted.begin(), whole_fitted.end());
+  reference_tree.accelerate_distance_queries();
+  fitted_tree.accelerate_distance_queries();
   std::vector<FitDeviation> out;
   for (int label = 0; label <= (kind == "head" ? 4 : 0); ++label) {
     const Triangles a = part_triangles(reference, label), b = part_triangles(fitted, label);
@@ -549,19 +549,21 @@ std::vector<FitDeviation> fit_deviation(const SurfaceMesh& reference, const Surf
     if (a.empty() || b.empty())
       throw pipeline::algorithm_failed("fit", "part " + d.name + " vanished while fitting");
     double sum2 = 0;
-    auto measure = [&](const Triangles& from, const Triangles& to) {
-      Tree tree(to.begin(), to.end());
-      tree.accelerate_distance_queries();
+    auto measure = [&](const Triangles& from, const Tree& to_whole, const Triangles& to_part) {
+      Tree part_tree(to_part.begin(), to_part.end());
+      part_tree.accelerate_distance_queries();
       for (const auto& t : from)
         for (const auto& q : {t[0], CGAL::centroid(t)}) {
-          const double dist = std::sqrt(tree.squared_distance(q));
+          const double dist = std::sqrt(to_whole.squared_distance(q));
           sum2 += dist * dist;
           if (dist > d.max_mm) d.max_mm = dist, d.max_at = q;
           ++d.samples;
+          const double to_same_part = std::sqrt(part_tree.squared_distance(q));
+          if (to_same_part > d.outline_shift_mm) d.outline_shift_mm = to_same_part, d.outline_shift_at = q;
         }
     };
-    measure(b, a);
-    measure(a, b);
+    measure(b, reference_tree, a);
+    measure(a, fitted_tree, b);
     d.rms_mm = std::sqrt(sum2 / d.samples);
     out.push_back(d);
   }

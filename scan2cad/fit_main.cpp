@@ -49,9 +49,12 @@ int main(int argc, char** argv) {
     // 3. Deviation, then write
     progress.step("measuring the deviation");
     for (const auto& d : scan2cad::fit_deviation(mesh, fitted, kind)) {
-      char line[200];
-      std::snprintf(line, sizeof line, "%-16s deviation rms %.4f max %.4f mm at (%.1f, %.1f, %.1f) (%zu points, both directions)",
-                    d.name.c_str(), d.rms_mm, d.max_mm, d.max_at.x(), d.max_at.y(), d.max_at.z(), d.samples);
+      char line[260];
+      std::snprintf(line, sizeof line,
+                    "%-16s deviation rms %.4f max %.4f mm at (%.1f, %.1f, %.1f) (%zu points, both directions); "
+                    "outline shift %.4f mm",
+                    d.name.c_str(), d.rms_mm, d.max_mm, d.max_at.x(), d.max_at.y(), d.max_at.z(), d.samples,
+                    d.outline_shift_mm);
       pipeline::log("fit", line);
     }
     if (ext == ".ply") {

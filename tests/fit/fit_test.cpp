@@ -40,9 +40,13 @@ TEST(remesh_parts, niosh_medium_fit_within_deviation_budget) {
   for (const auto& d : dev) {
     SCOPED_TRACE(d.name);
     // Budget of the task (issue 3): 0.2 mm RMS, 1 mm max per part, both directions. Measured
-    // 0.02-0.05 mm RMS and 0.3-0.98 mm max (the max sits on the most curved cells of the cuts).
+    // against the same part (now outline_shift_mm): 0.02-0.05 mm RMS and 0.3-0.98 mm max (the max
+    // sits on the most curved cells of the cuts). The outline may move by up to one fitted edge
+    // (2 mm): its edges are chords of the cut.
     EXPECT_LE(d.rms_mm, 0.2);
     EXPECT_LE(d.max_mm, 1.0);
+    EXPECT_LE(d.outline_shift_mm, 2.0);
+    EXPECT_LE(d.max_mm, d.outline_shift_mm);  // the whole surface is nearer than its same part
     EXPECT_GT(d.samples, 1000u);
   }
   // The fitted surface stays closed and keeps one connected disk per part.

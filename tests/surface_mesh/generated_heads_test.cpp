@@ -87,9 +87,12 @@ TEST_P(GeneratedHead, aligned_segmented_fitted_and_meshed_within_the_requirement
               std::size_t(head.number_of_faces()), std::size_t(fitted.number_of_faces()));
   for (const auto& d : scan2cad::fit_deviation(head, fitted, "head")) {
     SCOPED_TRACE(d.name);
-    std::printf("%s: fit %-12s rms %.3f max %.3f mm\n", id.c_str(), d.name.c_str(), d.rms_mm, d.max_mm);
+    std::printf("%s: fit %-12s rms %.3f max %.3f mm at (%.1f, %.1f, %.1f), outline shift %.3f mm at (%.1f, %.1f, %.1f)\n",
+                id.c_str(), d.name.c_str(), d.rms_mm, d.max_mm, d.max_at.x(), d.max_at.y(), d.max_at.z(),
+                d.outline_shift_mm, d.outline_shift_at.x(), d.outline_shift_at.y(), d.outline_shift_at.z());
     EXPECT_LE(d.rms_mm, 0.2);
     EXPECT_LE(d.max_mm, 1.0);
+    EXPECT_LE(d.outline_shift_mm, 2.0);  // one fitted edge: its outline edges are chords of the cut
   }
 
   // 5. Surface mesh at the CLI defaults (6.4 mm face, 7 mm back); the written file opens in gmsh and meshio.
