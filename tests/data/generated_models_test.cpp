@@ -3,6 +3,7 @@
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
+#include <cmath>
 #include <iostream>
 #include <string>
 
@@ -45,6 +46,35 @@ TEST(head_model, clean_mesh_is_closed_manifold_without_self_intersections) {
   EXPECT_TRUE(CGAL::is_closed(mesh));
   EXPECT_FALSE(PMP::does_self_intersect(mesh));
   EXPECT_TRUE(PMP::is_outward_oriented(mesh));
+}
+
+// The clean mesh is the implicit surface only where the head is star-shaped from the rays'
+// origin: where a ray leaves the head and enters it again, the part of the surface in between
+// is hidden and the mesh bridges it. The old ears (discs off the scalp) were hidden that way on
+// ~2,900 of 163,842 rays, bridged up to 16 mm off the surface. The one place left is the alar
+// groove beside the nose (the alae overhang the cheek) and under the tip: 13–40 rays, bridged by at most 1.6 mm.
+TEST(head_model, every_ray_from_the_centre_crosses_the_surface_once) {
+  const std::string params = std::string(SOURCE_DIR) + "/data/generator/headforms.json";
+  for (const std::string id : {"small", "medium", "large", "longnarrow", "shortwide"}) {
+    const HeadShape head(read_head_params(params, id));
+    const Triangles tri = head.mesh(5);  // 10,242 rays
+    int hidden = 0, hidden_at_the_nose = 0;
+    for (const Point& hit : tri.points) {
+      const Vector d = hit - head.centre();
+      const double length = std::sqrt(d.squared_length());
+      // 0.25 mm steps: the parts are ≥ 7 mm thick, so no excursion outside is stepped over
+      bool outside = false;
+      for (double r = 0.25; r < length - 0.3 && !outside; r += 0.25)
+        outside = head.value(head.centre() + (r / length) * d) > 0;
+      if (!outside) continue;
+      const bool at_the_nose = std::abs(hit.x()) < 15 && hit.y() > -40 && hit.y() < -5 && hit.z() > 85;
+      (at_the_nose ? hidden_at_the_nose : hidden) += 1;
+      if (!at_the_nose) ADD_FAILURE() << id << ": surface hidden from the centre before " << hit;
+      if (hidden > 3) break;
+    }
+    EXPECT_EQ(hidden, 0) << id;
+    EXPECT_LE(hidden_at_the_nose, 20) << id;  // 2–6 of these rays at level 5
+  }
 }
 
 TEST(head_model, provably_outside_segments_are_outside) {
