@@ -34,6 +34,7 @@
 #include <Eigen/Eigenvalues>
 #include <CGAL/remove_outliers.h>
 #include <CGAL/Random.h>
+#include <CGAL/Surface_mesh_default_triangulation_3.h>
 
 #include <algorithm>
 #include <array>
@@ -105,6 +106,51 @@ class StepClock {
   bool running_ = false;
 };
 
+// Vertex and cell bases of the contouring's triangulation with CGAL time stamps. The surface
+// mesher keeps std::sets of vertex handles (Surface_mesher_manifold's bad vertices,
+// Surface_mesher_regular_edges' bad edges) and walks them in handle order, which for handles
+// without a time stamp is their heap address: the same points gave another mesh after any change
+// of the process's allocation history (another build of the same code, an environment tunable).
+// With a stamp, CGAL's Compact_container orders handles by creation (as Mesh_3 does), and the
+// mesh depends only on the input. CGAL's Surface_mesh_default_triangulation_3_generator, but
+// with these bases.
+template <class GT, class Vb = CGAL::Surface_mesh_vertex_base_3<GT>>
+class Stamped_vertex_base : public Vb {
+ public:
+  using Has_timestamp = CGAL::Tag_true;
+  template <class TDS>
+  struct Rebind_TDS {
+    using Other = Stamped_vertex_base<GT, typename Vb::template Rebind_TDS<TDS>::Other>;
+  };
+  using Vb::Vb;
+  std::size_t time_stamp() const { return time_stamp_; }
+  void set_time_stamp(const std::size_t& ts) { time_stamp_ = ts; }
+
+ private:
+  std::size_t time_stamp_ = std::size_t(-1);
+};
+template <class GT, class Cb = CGAL::Surface_mesh_cell_base_3<GT>>
+class Stamped_cell_base : public Cb {
+ public:
+  using Has_timestamp = CGAL::Tag_true;
+  template <class TDS>
+  struct Rebind_TDS {
+    using Other = Stamped_cell_base<GT, typename Cb::template Rebind_TDS<TDS>::Other>;
+  };
+  using Cb::Cb;
+  std::size_t time_stamp() const { return time_stamp_; }
+  void set_time_stamp(const std::size_t& ts) { time_stamp_ = ts; }
+
+ private:
+  std::size_t time_stamp_ = std::size_t(-1);
+};
+using ContourKernel = CGAL::Robust_circumcenter_traits_3<pipeline::Kernel>;
+using ContourTriangulation = CGAL::Delaunay_triangulation_3<
+    ContourKernel,
+    CGAL::Triangulation_data_structure_3<
+        Stamped_vertex_base<ContourKernel>,
+        CGAL::Delaunay_triangulation_cell_base_with_circumcenter_3<ContourKernel, Stamped_cell_base<ContourKernel>>>>;
+
 // Mean distance to the 6 nearest neighbours: the spacing CGAL's Poisson reconstruction uses.
 double poisson_spacing(const std::vector<PN>& pn) {
   return CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, 6, CGAL::parameters::point_map(PointMap()));
@@ -136,7 +182,7 @@ bool poisson_reconstruction(const std::vector<PN>& pn, double spacing_mm, double
   using Function = CGAL::Poisson_reconstruction_function<Kernel>;
   using Solver = CGAL::Eigen_solver_traits<
       Eigen::ConjugateGradient<CGAL::Eigen_sparse_symmetric_matrix<double>::EigenType>>;
-  using STr = CGAL::Surface_mesher::Surface_mesh_default_triangulation_3_generator<Kernel>::Type;
+  using STr = ContourTriangulation;
   using C2t3 = CGAL::Surface_mesh_complex_2_in_triangulation_3<STr>;
   using Surface = CGAL::Implicit_surface_3<Kernel, Function>;
   clock.start("Poisson implicit function (Delaunay refinement, CG solve) of " + std::to_string(pn.size()) + " points");
