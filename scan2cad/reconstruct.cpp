@@ -106,38 +106,23 @@ class StepClock {
   bool running_ = false;
 };
 
-// Vertex and cell bases of the contouring's triangulation with CGAL time stamps. The surface
+// A vertex or cell base of the contouring's triangulation with a CGAL time stamp. The surface
 // mesher keeps std::sets of vertex handles (Surface_mesher_manifold's bad vertices,
 // Surface_mesher_regular_edges' bad edges) and walks them in handle order, which for handles
 // without a time stamp is their heap address: the same points gave another mesh after any change
 // of the process's allocation history (another build of the same code, an environment tunable).
 // With a stamp, CGAL's Compact_container orders handles by creation (as Mesh_3 does), and the
-// mesh depends only on the input. CGAL's Surface_mesh_default_triangulation_3_generator, but
-// with these bases.
-template <class GT, class Vb = CGAL::Surface_mesh_vertex_base_3<GT>>
-class Stamped_vertex_base : public Vb {
+// mesh depends only on the input. ContourTriangulation is CGAL's
+// Surface_mesh_default_triangulation_3_generator with these bases.
+template <class Base>
+class Time_stamped : public Base {
  public:
   using Has_timestamp = CGAL::Tag_true;
   template <class TDS>
   struct Rebind_TDS {
-    using Other = Stamped_vertex_base<GT, typename Vb::template Rebind_TDS<TDS>::Other>;
+    using Other = Time_stamped<typename Base::template Rebind_TDS<TDS>::Other>;
   };
-  using Vb::Vb;
-  std::size_t time_stamp() const { return time_stamp_; }
-  void set_time_stamp(const std::size_t& ts) { time_stamp_ = ts; }
-
- private:
-  std::size_t time_stamp_ = std::size_t(-1);
-};
-template <class GT, class Cb = CGAL::Surface_mesh_cell_base_3<GT>>
-class Stamped_cell_base : public Cb {
- public:
-  using Has_timestamp = CGAL::Tag_true;
-  template <class TDS>
-  struct Rebind_TDS {
-    using Other = Stamped_cell_base<GT, typename Cb::template Rebind_TDS<TDS>::Other>;
-  };
-  using Cb::Cb;
+  using Base::Base;
   std::size_t time_stamp() const { return time_stamp_; }
   void set_time_stamp(const std::size_t& ts) { time_stamp_ = ts; }
 
@@ -148,8 +133,9 @@ using ContourKernel = CGAL::Robust_circumcenter_traits_3<pipeline::Kernel>;
 using ContourTriangulation = CGAL::Delaunay_triangulation_3<
     ContourKernel,
     CGAL::Triangulation_data_structure_3<
-        Stamped_vertex_base<ContourKernel>,
-        CGAL::Delaunay_triangulation_cell_base_with_circumcenter_3<ContourKernel, Stamped_cell_base<ContourKernel>>>>;
+        Time_stamped<CGAL::Surface_mesh_vertex_base_3<ContourKernel>>,
+        CGAL::Delaunay_triangulation_cell_base_with_circumcenter_3<
+            ContourKernel, Time_stamped<CGAL::Surface_mesh_cell_base_3<ContourKernel>>>>>;
 
 // Mean distance to the 6 nearest neighbours: the spacing CGAL's Poisson reconstruction uses.
 double poisson_spacing(const std::vector<PN>& pn) {

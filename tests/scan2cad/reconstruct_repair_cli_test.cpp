@@ -167,7 +167,7 @@ TEST(repair_cli, niosh_medium_stl_comes_out_closed_manifold_and_clean) {
 
 // The same scan gives the same bytes whatever the process's heap layout. glibc's tunables move
 // the allocations: with mmap_threshold=4096 every block above 4 KB gets its own mapping. Before
-// the contouring's triangulation had time-stamped handles (reconstruct.cpp, Stamped_vertex_base)
+// the contouring's triangulation had time-stamped handles (reconstruct.cpp, Time_stamped)
 // this 60,000-point scan gave three different meshes under these three layouts; the surface
 // mesher walked sets of handles in address order.
 TEST(reconstruct_cli, output_does_not_depend_on_the_heap_layout) {
