@@ -51,8 +51,9 @@ TEST(head_model, clean_mesh_is_closed_manifold_without_self_intersections) {
 // The clean mesh is the implicit surface only where the head is star-shaped from the rays'
 // origin: where a ray leaves the head and enters it again, the part of the surface in between
 // is hidden and the mesh bridges it. The old ears (discs off the scalp) were hidden that way on
-// ~2,900 of 163,842 rays, bridged up to 16 mm off the surface. The one place left is the alar
-// groove beside the nose (the alae overhang the cheek) and under the tip: 13–40 rays, bridged by at most 1.6 mm.
+// ~2,900 of 163,842 rays, bridged up to 16 mm off the surface. The one place left is the nose:
+// the alar groove (the alae overhang the cheek) and under the tip, 13–40 of 163,842 rays,
+// bridged by at most 1.6 mm.
 TEST(head_model, every_ray_from_the_centre_crosses_the_surface_once) {
   const std::string params = std::string(SOURCE_DIR) + "/data/generator/headforms.json";
   for (const std::string id : {"small", "medium", "large", "longnarrow", "shortwide"}) {
@@ -62,7 +63,8 @@ TEST(head_model, every_ray_from_the_centre_crosses_the_surface_once) {
     for (const Point& hit : tri.points) {
       const Vector d = hit - head.centre();
       const double length = std::sqrt(d.squared_length());
-      // 0.25 mm steps: the parts are ≥ 7 mm thick, so no excursion outside is stepped over
+      // 0.25 mm steps: a stretch outside the head shorter than that along the ray would be
+      // missed; the old ears' were several millimetres
       bool outside = false;
       for (double r = 0.25; r < length - 0.3 && !outside; r += 0.25)
         outside = head.value(head.centre() + (r / length) * d) > 0;
