@@ -14,7 +14,8 @@ using pipeline::SurfaceMesh;
 
 namespace scan2cad {
 
-std::vector<HoleInfo> fill_holes(SurfaceMesh& mesh, ScanKind kind) {
+std::vector<HoleInfo> fill_holes(SurfaceMesh& mesh, ScanKind kind, std::vector<std::vector<pipeline::FaceIndex>>* fills,
+                                 double fill_edge_mm) {
   std::vector<SurfaceMesh::Halfedge_index> loops;
   PMP::extract_boundary_cycles(mesh, std::back_inserter(loops));
   struct Loop {
@@ -47,12 +48,17 @@ std::vector<HoleInfo> fill_holes(SurfaceMesh& mesh, ScanKind kind) {
     }
     std::vector<pipeline::FaceIndex> faces;
     std::vector<pipeline::VertexIndex> verts;
+    // Liepa's refinement splits a triangle until its vertices are about (their mean edge) /
+    // density apart; CGAL's default density is sqrt(2)
+    const double mean_edge = l.info.perimeter_mm / double(std::max<std::size_t>(l.info.boundary_edges, 1));
+    const double density = std::max(std::sqrt(2.0), mean_edge / fill_edge_mm);
     const auto res = PMP::triangulate_refine_and_fair_hole(
         mesh, l.h, std::back_inserter(faces), std::back_inserter(verts),
-        CGAL::parameters::fairing_continuity(1));
+        CGAL::parameters::fairing_continuity(1).density_control_factor(density));
     l.info.faired = std::get<0>(res);
     l.info.faces_added = faces.size();
     l.info.filled = !faces.empty();
+    if (fills && l.info.filled) fills->push_back(std::move(faces));
     out.push_back(l.info);
   }
   return out;

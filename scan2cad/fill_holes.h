@@ -26,8 +26,16 @@ struct HoleInfo {
 ///
 /// @param[in,out] mesh  triangle mesh [mm]; new faces have edge lengths like their borders
 /// @param[in]     kind  decides which loop stays open (see above)
+/// @param[out]    fills optional: the faces each filled loop got, one list per filled loop
+/// @param[in]     fill_edge_mm  about the edge length inside a fill [mm] (CGAL's refinement
+///                      density is set from the loop's mean edge); default 1. Finer than the
+///                      loop: a reconstructed head's loops have edges of ~3 mm where the surface
+///                      is flat, and a fill at that size cannot take the shape of an eye socket
+///                      when complete_by_symmetry reshapes it
 /// @return one HoleInfo per boundary loop found, largest perimeter first
 /// @note a loop CGAL cannot triangulate stays open and is reported with filled = false
-std::vector<HoleInfo> fill_holes(pipeline::SurfaceMesh& mesh, ScanKind kind);
+std::vector<HoleInfo> fill_holes(pipeline::SurfaceMesh& mesh, ScanKind kind,
+                                 std::vector<std::vector<pipeline::FaceIndex>>* fills = nullptr,
+                                 double fill_edge_mm = 1.0);
 
 }  // namespace scan2cad

@@ -85,7 +85,13 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
 
   // 5. Holes.
   progress.step("hole filling");
-  r.holes = fill_holes(mesh, kind);
+  std::vector<std::vector<pipeline::FaceIndex>> fills;
+  r.holes = fill_holes(mesh, kind, &fills);
+  if (kind == ScanKind::head && opt.symmetric_completion && !fills.empty()) {
+    progress.step("symmetric completion of " + std::to_string(fills.size()) + " hole fills");
+    r.symmetry = complete_fills_by_symmetry(mesh, fills, opt.symmetry);
+    r.symmetric_completion_run = true;
+  }
 
   // 6. Relaxation: mean-curvature flow, then isotropic remeshing.
   if (opt.smoothing_iterations > 0) {
@@ -155,6 +161,7 @@ nlohmann::json RepairReport::to_json() const {
           {"self_intersecting_faces_removed", self_intersecting_faces_removed},
           {"holes_filled", filled},
           {"holes", holes_j},
+          {"symmetric_completion", symmetric_completion_run ? symmetry.to_json() : nlohmann::json()},
           {"smoothing_iterations", smoothing_iterations},
           {"target_edge_mm", target_edge_mm},
           {"mean_edge_mm", mean_edge_mm},
@@ -168,13 +175,17 @@ nlohmann::json RepairReport::to_json() const {
 }
 
 std::string RepairReport::summary() const {
-  std::size_t filled = 0;
+  std::size_t filled = 0, completed = 0;
   for (const auto& h : holes) filled += h.filled;
+  for (const auto& h : symmetry.holes) completed += h.completed;
   std::ostringstream s;
   s << "in " << input_faces << " faces; removed: " << soup_polygons_removed << " soup polygons, "
     << degenerate_faces_removed << " degenerate faces, " << components_removed << " small components ("
     << component_faces_removed << " faces), " << self_intersecting_faces_removed << " self-intersecting faces; "
-    << spike_vertices_moved << " spike vertices moved; " << filled << " holes filled; out " << output_faces
+    << spike_vertices_moved << " spike vertices moved; " << filled << " holes filled";
+  if (symmetric_completion_run)
+    s << " (" << completed << " completed by symmetry" << (symmetry.skipped.empty() ? "" : ": " + symmetry.skipped) << ")";
+  s << "; out " << output_faces
     << " faces, mean edge " << mean_edge_mm << " mm, " << (closed ? "closed" : "open") << ", "
     << (manifold ? "manifold" : "NON-manifold") << ", "
     << (self_intersecting_after ? "self-intersecting" : "no self-intersections");

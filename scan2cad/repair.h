@@ -11,6 +11,8 @@
 ///  4. self-intersecting faces are deleted (their holes are filled in step 5);
 ///  5. holes are filled with triangulate_refine_and_fair_hole (see fill_holes.h for which
 ///     boundary loops stay open: none on a head, the largest — the rim — on a respirator);
+///     on a head the fills are then reshaped after the mirrored scanned surface where the head
+///     is symmetric (complete_by_symmetry.h);
 ///  6. the surface is relaxed: `smoothing_iterations` steps of mean-curvature flow
 ///     (PMP::smooth_shape) and then isotropic remeshing to `target_edge_mm` (tangential
 ///     relaxation included); a respirator's rim is split to the target length and kept in place;
@@ -22,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/surface_mesh.h"
+#include "scan2cad/complete_by_symmetry.h"
 #include "scan2cad/fill_holes.h"
 #include "scan2cad/scan_kind.h"
 
@@ -38,6 +41,9 @@ struct RepairOptions {
   double smoothing_time = 1e-4;
   /// spike threshold: distance to the one-ring plane / mean one-ring radius; default 1.0
   double spike_factor = 1.0;
+  /// heads: reshape the hole fills after the mirror image of the scanned other side; default on
+  bool symmetric_completion = true;
+  SymmetricCompletionOptions symmetry;
 };
 
 /// What repair changed, as written to the JSON report.
@@ -50,6 +56,8 @@ struct RepairReport {
   std::size_t spike_vertices_moved = 0;
   std::size_t self_intersecting_faces_before = 0, self_intersecting_faces_removed = 0;
   std::vector<HoleInfo> holes;                ///< every boundary loop met, filled or kept open
+  bool symmetric_completion_run = false;      ///< step 5's completion was tried (heads only)
+  SymmetricCompletionReport symmetry;         ///< its result, one entry per filled hole of step 5
   int smoothing_iterations = 0;
   double target_edge_mm = 0, mean_edge_mm = 0;
   std::size_t output_vertices = 0, output_faces = 0;

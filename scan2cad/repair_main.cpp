@@ -28,8 +28,14 @@ int main(int argc, char** argv) {
   cli.option("-s", "--smooth", &opt.smoothing_iterations, "mean-curvature-flow smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &opt.smoothing_time, "smoothing time step (CGAL smooth_shape)", 1e-9, 1.0);
   cli.option("-p", "--spike-factor", &opt.spike_factor, "spike: offset from one-ring plane > p x edge", 0.1, 100.0);
+  bool no_symmetry = false;
+  cli.flag("-S", "--no-symmetric-completion", &no_symmetry,
+           "heads: keep the faired hole fills (default: reshape them after the mirrored other side)");
+  cli.option("-a", "--max-ring-asymmetry", &opt.symmetry.max_ring_asymmetry_mm,
+             "complete a hole by symmetry only if its ring is this symmetric (RMS) [mm]", 0.0, 100.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options
+    opt.symmetric_completion = !no_symmetry;
     const auto kind = kind_unit.kind();
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();
     // 2. Load
