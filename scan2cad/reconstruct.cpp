@@ -24,15 +24,11 @@
 #include <CGAL/Scale_space_reconstruction_3/Advancing_front_mesher.h>
 #include <CGAL/Scale_space_reconstruction_3/Weighted_PCA_smoother.h>
 #include <CGAL/Scale_space_surface_reconstruction_3.h>
-#include <CGAL/compute_average_spacing.h>
 #include <CGAL/grid_simplify_point_set.h>
-#include <CGAL/jet_estimate_normals.h>
-#include <CGAL/jet_smooth_point_set.h>
 #include <CGAL/mst_orient_normals.h>
 #include <CGAL/poisson_surface_reconstruction.h>
 #include <CGAL/Eigen_solver_traits.h>
 #include <Eigen/Eigenvalues>
-#include <CGAL/remove_outliers.h>
 #include <CGAL/Random.h>
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
 
@@ -52,6 +48,7 @@
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/units.h"
+#include "scan2cad/internal/point_set_steps.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 using pipeline::Point;
@@ -66,12 +63,9 @@ using PN = std::pair<Point, Vector>;
 using PointMap = CGAL::First_of_pair_property_map<PN>;
 using NormalMap = CGAL::Second_of_pair_property_map<PN>;
 constexpr std::size_t min_points = 100;
-// The per-point k-NN steps (outliers, jet smoothing, jet normals) run on all cores when CGAL is
-// linked with TBB (scan2cad/CMakeLists.txt). Each point's result depends only on its
-// neighbours, but two 1M-point runs still differed slightly (202,856 vs 202,738 faces, p95
-// equal): the point order after the parallel steps is not fixed (not investigated further).
-// compute_average_spacing stays sequential: its parallel sum would change the spacing.
-using PointSetConcurrency = CGAL::Parallel_if_available_tag;
+// The per-point k-NN steps (spacing, outliers, jet smoothing, jet normals) run on all cores
+// through internal/point_set_steps.h: CGAL's per-point code with a fixed OpenMP schedule, so the
+// output does not depend on the threads' timing.
 
 // Wall and CPU time of each step, on stderr and in ReconstructStats::step_times (issue 2 asks
 // where the time goes; std::clock() is the CPU time of the whole process, all threads).
@@ -139,7 +133,7 @@ using ContourTriangulation = CGAL::Delaunay_triangulation_3<
 
 // Mean distance to the 6 nearest neighbours: the spacing CGAL's Poisson reconstruction uses.
 double poisson_spacing(const std::vector<PN>& pn) {
-  return CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, 6, CGAL::parameters::point_map(PointMap()));
+  return internal::average_spacing(pn, 6);
 }
 
 // Keeps a seeded pseudo-random subset of about `keep_points` of the points, in their order.
@@ -404,7 +398,7 @@ ProjectionStats project_onto_points(SurfaceMesh& mesh, const std::vector<PN>& pn
 std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k) {
   if (pn.size() <= k) return 0;
   std::vector<PN> smoothed = pn;
-  CGAL::jet_smooth_point_set<PointSetConcurrency>(smoothed, k, CGAL::parameters::point_map(PointMap()));
+  internal::jet_smooth(smoothed, k);
   std::vector<double> move(pn.size());
   for (std::size_t i = 0; i < pn.size(); ++i) move[i] = std::sqrt(CGAL::squared_distance(pn[i].first, smoothed[i].first));
   std::vector<double> sorted = move;
@@ -441,7 +435,7 @@ std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k) {
 // Returns false (pn untouched except for MST drops) when fewer than half the points see two
 // sides: the scan is not a thin shell, and the MST normals are used as for heads.
 bool orient_thin_shell(std::vector<PN>& pn, unsigned k, ReconstructStats& st) {
-  CGAL::jet_estimate_normals<PointSetConcurrency>(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
+  internal::jet_normals(pn, k);
   pn.erase(CGAL::mst_orient_normals(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap())), pn.end());
   using Traits = CGAL::Search_traits_3<pipeline::Kernel>;
   using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
@@ -509,7 +503,7 @@ bool orient_thin_shell(std::vector<PN>& pn, unsigned k, ReconstructStats& st) {
   pn.clear();
   if (inner.size() <= k) return true;
   std::vector<PN> renormal = inner;
-  CGAL::jet_estimate_normals<PointSetConcurrency>(renormal, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
+  internal::jet_normals(renormal, k);
   for (std::size_t i = 0; i < inner.size(); ++i) {
     const Vector& n = renormal[i].second;
     pn.push_back({inner[i].first, n * inner[i].second < 0 ? -n : n});
@@ -615,25 +609,15 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
 
   // 2. Outliers: mean k-NN distance above outlier_factor × the cloud's average spacing.
   clock.start("outlier removal");
-  const double spacing0 = CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, k, CGAL::parameters::point_map(PointMap()));
   const std::size_t before = pn.size();
-  pn.erase(CGAL::remove_outliers<PointSetConcurrency>(pn, k, CGAL::parameters::point_map(PointMap())
-                                                                  .threshold_percent(100.0)
-                                                                  .threshold_distance(opt.outlier_factor * spacing0)),
-           pn.end());
+  internal::remove_far_points(pn, k, opt.outlier_factor * internal::average_spacing(pn, k));
   // Isolated points: the k-NN test above misses a lone outlier beside a scan hole, whose 24
   // neighbours lie on one side at 3-5 mm like a hole's rim points' do (generated large head,
   // 200k points: one 3.2 mm off the surface inside a nape hole kept a lip of Poisson's fill
   // there, 1.5 mm off after repair). Its few nearest neighbours are 4-6 spacings away where a
   // surface point's are about one (even on a thin ear rim): the same test on 4 neighbours.
   const unsigned k_isolated = 4;
-  const double spacing_near =
-      CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, k_isolated, CGAL::parameters::point_map(PointMap()));
-  pn.erase(CGAL::remove_outliers<PointSetConcurrency>(pn, k_isolated,
-                                                      CGAL::parameters::point_map(PointMap())
-                                                          .threshold_percent(100.0)
-                                                          .threshold_distance(opt.outlier_factor * spacing_near)),
-           pn.end());
+  internal::remove_far_points(pn, k_isolated, opt.outlier_factor * internal::average_spacing(pn, k_isolated));
   st.outliers_removed = before - pn.size();
   if (pn.size() < min_points)
     throw pipeline::bad_input("point cloud", "only " + std::to_string(pn.size()) +
@@ -664,7 +648,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     if (!st.thin_shell) st.outliers_removed += jet_smooth_and_despike(pn, k);  // one side: as for heads
   } else if (!has_normals) {
     clock.start("normal estimation and orientation");
-    CGAL::jet_estimate_normals<PointSetConcurrency>(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
+    internal::jet_normals(pn, k);
     // points MST cannot reach are dropped: their normal would be a coin toss
     pn.erase(CGAL::mst_orient_normals(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap())), pn.end());
     st.normals_estimated = true;

@@ -106,19 +106,22 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
     r.target_edge_mm = opt.target_edge_mm;
   }
 
-  // 7. Self-intersections the remeshing made (rare, at tight folds): cut out and refill.
-  for (int round = 0; round < 3; ++round) {
-    if (internal::count_self_intersecting_faces(mesh) == 0) break;
+  // 7. Self-intersections the remeshing made (rare, at tight folds): cut out and refill. The last
+  //    count is the final check (a full test of a 200k-face head costs about a second).
+  progress.step("self-intersection check of the remeshed surface");
+  std::size_t crossing = internal::count_self_intersecting_faces(mesh);
+  for (int round = 0; round < 3 && crossing > 0; ++round) {
     progress.step("removing self-intersections created by remeshing, round " + std::to_string(round + 1));
     r.self_intersecting_faces_removed += internal::remove_self_intersecting_faces(mesh);
     for (const auto& h : fill_holes(mesh, kind))
       if (!h.kept_open) r.holes.push_back(h);
+    crossing = internal::count_self_intersecting_faces(mesh);
   }
 
   // Checks and orientation.
   r.closed = CGAL::is_closed(mesh);
   if (r.closed && !PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);
-  r.self_intersecting_after = internal::count_self_intersecting_faces(mesh) > 0;
+  r.self_intersecting_after = crossing > 0;
   // a Surface_mesh is edge-manifold by construction; vertices are checked here
   std::vector<SurfaceMesh::Halfedge_index> nm;
   PMP::non_manifold_vertices(mesh, std::back_inserter(nm));

@@ -6,7 +6,6 @@ PACKAGES=(
   build-essential cmake pkg-config ninja-build
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev   # CGAL and its number types
   libeigen3-dev                                      # dense/sparse algebra
-  libtbb-dev                                         # CGAL's parallel point-set steps
   libgmsh-dev gmsh                                   # CAD fit and surface meshing
   libassimp-dev                                      # reading scan formats
   nlohmann-json3-dev                                 # JSON reports and decks

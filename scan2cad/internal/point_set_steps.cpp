@@ -1,0 +1,84 @@
+// CGAL's per-point point-set steps on all OpenMP threads; see point_set_steps.h.
+#include "scan2cad/internal/point_set_steps.h"
+
+#include <CGAL/Eigen_svd.h>
+#include <CGAL/compute_average_spacing.h>
+#include <CGAL/jet_estimate_normals.h>
+#include <CGAL/jet_smooth_point_set.h>
+#include <CGAL/property_map.h>
+#include <CGAL/remove_outliers.h>
+
+#include <algorithm>
+
+namespace scan2cad::internal {
+
+namespace {
+
+using PointMap = CGAL::First_of_pair_property_map<PointWithNormal>;
+using NeighborQuery =
+    CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, const std::vector<PointWithNormal>&, PointMap>;
+// CGAL's default degrees of jet_smooth_point_set and jet_estimate_normals
+constexpr unsigned degree_fitting = 2, degree_monge = 2;
+
+// f(i) for every point index, the same indices on the same thread in every run (static schedule)
+template <class PerPoint>
+void for_each_point(std::size_t n, const PerPoint& f) {
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < long(n); ++i) f(std::size_t(i));
+}
+
+}  // namespace
+
+double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k) {
+  const NeighborQuery query(pn, PointMap());
+  std::vector<double> spacing(pn.size());
+  for_each_point(pn.size(), [&](std::size_t i) {
+    spacing[i] = CGAL::internal::compute_average_spacing<NeighborQuery>(pn[i].first, query, k);
+  });
+  double sum = 0;  // in point order, as CGAL's sequential sum
+  for (double s : spacing) sum += s;
+  return pn.empty() ? 0.0 : sum / double(pn.size());
+}
+
+std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, double threshold_distance_mm) {
+  std::vector<std::pair<double, PointWithNormal>> scored(pn.size());
+  {
+    NeighborQuery query(pn, PointMap());
+    for_each_point(pn.size(), [&](std::size_t i) {
+      scored[i] = {CGAL::internal::compute_avg_knn_sq_distance_3(pn[i].first, query, k, 0.0), pn[i]};
+    });
+  }
+  // CGAL's partition (not stable: the kept points come in the order CGAL gives them)
+  const double t2 = threshold_distance_mm * threshold_distance_mm;
+  const auto end_kept =
+      std::partition(scored.begin(), scored.end(), [t2](const std::pair<double, PointWithNormal>& p) { return p.first < t2; });
+  const std::size_t removed = std::size_t(scored.end() - end_kept);
+  pn.clear();
+  for (auto it = scored.begin(); it != end_kept; ++it) pn.push_back(it->second);
+  return removed;
+}
+
+void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k) {
+  std::vector<pipeline::Point> smoothed(pn.size());
+  {
+    const NeighborQuery query(pn, PointMap());
+    for_each_point(pn.size(), [&](std::size_t i) {
+      smoothed[i] =
+          CGAL::internal::jet_smooth_point<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, degree_fitting, degree_monge);
+    });
+  }
+  for (std::size_t i = 0; i < pn.size(); ++i) pn[i].first = smoothed[i];
+}
+
+void jet_normals(std::vector<PointWithNormal>& pn, unsigned k) {
+  std::vector<pipeline::Vector> normal(pn.size());
+  {
+    const NeighborQuery query(pn, PointMap());
+    for_each_point(pn.size(), [&](std::size_t i) {
+      normal[i] = CGAL::internal::jet_estimate_normal<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, degree_fitting);
+    });
+  }
+  for (std::size_t i = 0; i < pn.size(); ++i) pn[i].second = normal[i];
+}
+
+}  // namespace scan2cad::internal

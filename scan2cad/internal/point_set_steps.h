@@ -1,0 +1,38 @@
+#pragma once
+/// Internal to scan2cad/reconstruct: CGAL's per-point point-set steps on both cores.
+///
+/// Each function gives exactly what the CGAL function named beside it gives with
+/// CGAL::Sequential_tag (the same per-point code of CGAL 5.5's Point_set_processing_3, on the same
+/// k-d tree and neighbours, results combined in the same order), but runs the points on all
+/// OpenMP threads with a static schedule. Why not CGAL's Parallel_tag: it runs them through TBB,
+/// whose work stealing hands the points to the threads differently in every run, so the main
+/// thread's heap history changes from run to run, and with it the result of Poisson's Delaunay
+/// refinement, whose order follows heap addresses (two 1M-point runs with TBB: 202,856 and
+/// 202,738 faces). With a static schedule every thread does the same points in every run.
+/// The per-point kernels are CGAL's own (namespace CGAL::internal), not re-implemented.
+#include <utility>
+#include <vector>
+
+#include "pipeline/surface_mesh.h"
+
+namespace scan2cad::internal {
+
+using PointWithNormal = std::pair<pipeline::Point, pipeline::Vector>;
+
+/// CGAL::compute_average_spacing(points, k): mean over the points of the mean distance to their
+/// k nearest points [mm].
+double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k);
+
+/// CGAL::remove_outliers(points, k, threshold_percent(100).threshold_distance(d)) followed by the
+/// erase of the outliers: keeps the points whose mean squared distance to their k nearest is below
+/// d², in the order CGAL leaves them. Returns the number removed.
+std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, double threshold_distance_mm);
+
+/// CGAL::jet_smooth_point_set(points, k): each point projected onto the quadric jet of its k
+/// nearest points (all fitted on the unsmoothed positions); the normals are left as they are.
+void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k);
+
+/// CGAL::jet_estimate_normals(points, k): unoriented unit normals of the quadric jets.
+void jet_normals(std::vector<PointWithNormal>& pn, unsigned k);
+
+}  // namespace scan2cad::internal

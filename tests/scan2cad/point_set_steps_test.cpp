@@ -1,0 +1,85 @@
+// The OpenMP point-set steps give bit for bit what CGAL's sequential functions give, with one
+// thread or two.
+#include <gtest/gtest.h>
+
+#include <CGAL/compute_average_spacing.h>
+#include <CGAL/jet_estimate_normals.h>
+#include <CGAL/jet_smooth_point_set.h>
+#include <CGAL/remove_outliers.h>
+#include <omp.h>
+
+#include "data/generator/scanner_artifacts.h"
+#include "scan2cad/internal/point_set_steps.h"
+#include "test_meshes.h"
+
+namespace {
+
+using scan2cad::internal::PointWithNormal;
+using PointMap = CGAL::First_of_pair_property_map<PointWithNormal>;
+using NormalMap = CGAL::Second_of_pair_property_map<PointWithNormal>;
+
+// A noisy scan of a sphere with 1 % outliers, normals cleared as a scanner gives them.
+std::vector<PointWithNormal> scan(std::size_t n) {
+  generator::Rng rng{3};
+  generator::ScanOptions so;
+  so.points = n;
+  so.noise_mm = 0.3;
+  so.outliers.fraction = 0.01;
+  const auto cloud = generator::scan_surface(generator::triangles_of(test_meshes::sphere_soup(50, 60)), so, rng);
+  std::vector<PointWithNormal> pn;
+  for (const auto& p : cloud.points) pn.push_back({p, pipeline::Vector(0, 0, 0)});
+  return pn;
+}
+
+// Runs `f` with 1 and with 2 OpenMP threads and checks both against `expected`.
+template <class F, class Check>
+void with_one_and_two_threads(const F& f, const Check& check) {
+  const int threads = omp_get_max_threads();
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    SCOPED_TRACE(std::to_string(t) + " threads");
+    check(f());
+  }
+  omp_set_num_threads(threads);
+}
+
+}  // namespace
+
+TEST(point_set_steps, average_spacing_is_cgals) {
+  auto pn = scan(20000);
+  const double cgal = CGAL::compute_average_spacing<CGAL::Sequential_tag>(pn, 24, CGAL::parameters::point_map(PointMap()));
+  with_one_and_two_threads([&] { return scan2cad::internal::average_spacing(pn, 24); },
+                           [&](double ours) { EXPECT_EQ(ours, cgal); });
+}
+
+TEST(point_set_steps, remove_far_points_is_cgals_remove_outliers) {
+  const auto pn = scan(20000);
+  auto cgal = pn;
+  cgal.erase(CGAL::remove_outliers<CGAL::Sequential_tag>(
+                 cgal, 24, CGAL::parameters::point_map(PointMap()).threshold_percent(100.0).threshold_distance(2.0)),
+             cgal.end());
+  ASSERT_LT(cgal.size(), pn.size());  // the 1 % outliers give it something to remove
+  with_one_and_two_threads(
+      [&] {
+        auto ours = pn;
+        scan2cad::internal::remove_far_points(ours, 24, 2.0);
+        return ours;
+      },
+      [&](const std::vector<PointWithNormal>& ours) { EXPECT_TRUE(ours == cgal); });
+}
+
+TEST(point_set_steps, jet_smooth_and_jet_normals_are_cgals) {
+  const auto pn = scan(20000);
+  auto cgal = pn;
+  CGAL::jet_smooth_point_set<CGAL::Sequential_tag>(cgal, 24, CGAL::parameters::point_map(PointMap()));
+  CGAL::jet_estimate_normals<CGAL::Sequential_tag>(cgal, 24,
+                                                   CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
+  with_one_and_two_threads(
+      [&] {
+        auto ours = pn;
+        scan2cad::internal::jet_smooth(ours, 24);
+        scan2cad::internal::jet_normals(ours, 24);
+        return ours;
+      },
+      [&](const std::vector<PointWithNormal>& ours) { EXPECT_TRUE(ours == cgal); });
+}
