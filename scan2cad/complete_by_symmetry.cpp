@@ -37,7 +37,8 @@ constexpr std::size_t none = std::size_t(-1);
 /// a known vertex keeps zeros. The blended fields (a hole's asymmetry, the moves of unmatched
 /// vertices) are smooth and small, on the near-uniform triangles of a refined fill: the uniform
 /// weights are enough there, and unlike cotangent weights they are positive on any triangle.
-void harmonic_fill(const SurfaceMesh& mesh, const std::vector<VertexIndex>& domain, const std::vector<char>& known,
+/// Returns false (values unchanged) if the sparse solve fails.
+bool harmonic_fill(const SurfaceMesh& mesh, const std::vector<VertexIndex>& domain, const std::vector<char>& known,
                    std::vector<Eigen::Vector3d>& values) {
   std::vector<std::size_t> slot(mesh.number_of_vertices(), none);
   for (std::size_t i = 0; i < domain.size(); ++i) slot[std::size_t(domain[i])] = i;
@@ -45,7 +46,7 @@ void harmonic_fill(const SurfaceMesh& mesh, const std::vector<VertexIndex>& doma
   std::size_t n = 0;
   for (std::size_t i = 0; i < domain.size(); ++i)
     if (!known[i]) unknown_of[i] = n++;
-  if (n == 0) return;
+  if (n == 0) return true;
   std::vector<Eigen::Triplet<double>> a;
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(static_cast<long>(n), 3);
   for (std::size_t i = 0; i < domain.size(); ++i) {
@@ -71,10 +72,12 @@ void harmonic_fill(const SurfaceMesh& mesh, const std::vector<VertexIndex>& doma
   // diagonal term keeps it definite and that part at ~0 (its right-hand side is 0).
   for (long i = 0; i < size; ++i) m.coeffRef(i, i) += 1e-9;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(m);
-  if (solver.info() != Eigen::Success) throw pipeline::algorithm_failed("symmetric completion", "harmonic blend failed");
+  if (solver.info() != Eigen::Success) return false;
   const Eigen::MatrixXd x = solver.solve(b);
+  if (solver.info() != Eigen::Success || !x.allFinite()) return false;
   for (std::size_t i = 0; i < domain.size(); ++i)
     if (!known[i]) values[i] = x.row(long(unknown_of[i])).transpose();
+  return true;
 }
 
 }  // namespace
@@ -200,7 +203,7 @@ SymmetricCompletionReport complete_fills_by_symmetry(SurfaceMesh& mesh, const st
     std::vector<char> known(domain.size(), 0);
     for (std::size_t i = 0; i < n_reference; ++i)
       if (matched[i]) known[i] = 1, a[i] = d[i];
-    harmonic_fill(mesh, domain, known, a);
+    if (!harmonic_fill(mesh, domain, known, a)) continue;
     // the moves: zero on the reference rings, d − a on the matched band and fill vertices,
     // harmonic in between
     std::vector<Eigen::Vector3d> move(domain.size(), Eigen::Vector3d::Zero());
@@ -210,16 +213,18 @@ SymmetricCompletionReport complete_fills_by_symmetry(SurfaceMesh& mesh, const st
         fixed[i] = 1;
       else if (matched[i])
         fixed[i] = 1, move[i] = d[i] - a[i];
-    harmonic_fill(mesh, domain, fixed, move);
+    if (!harmonic_fill(mesh, domain, fixed, move)) continue;
     double sum = 0;
+    std::size_t applied = 0;
     for (std::size_t i = n_reference; i < domain.size(); ++i) {
       if (moved[std::size_t(domain[i])]) continue;  // in the band of an earlier hole too
       moved[std::size_t(domain[i])] = 1;
       moves.emplace_back(domain[i], move[i]);
       sum += move[i].norm();
+      ++applied;
       hr.max_move_mm = std::max(hr.max_move_mm, move[i].norm());
     }
-    hr.mean_move_mm = sum / double(domain.size() - n_reference);
+    hr.mean_move_mm = applied ? sum / double(applied) : 0.0;
     hr.completed = true;
   }
   for (const auto& [v, mv] : moves) mesh.point(v) = mesh.point(v) + pipeline::Vector(mv.x(), mv.y(), mv.z());
