@@ -30,6 +30,8 @@ Eigen::Vector3d to_eigen(const pipeline::Point& p) { return {p.x(), p.y(), p.z()
 Eigen::Vector3d to_eigen(const pipeline::Vector& v) { return {v.x(), v.y(), v.z()}; }
 
 constexpr std::size_t none = std::size_t(-1);
+// Per-element arrays are sized by num_vertices() / num_faces(), which count removed elements too,
+// so every index of a mesh with garbage fits.
 
 /// Harmonic interpolation over the vertex set `domain` (uniform graph Laplacian): a vertex with
 /// known[i] keeps values[i]; every other one becomes the mean of its neighbours in `domain`.
@@ -40,7 +42,7 @@ constexpr std::size_t none = std::size_t(-1);
 /// Returns false (values unchanged) if the sparse solve fails.
 bool harmonic_fill(const SurfaceMesh& mesh, const std::vector<VertexIndex>& domain, const std::vector<char>& known,
                    std::vector<Eigen::Vector3d>& values) {
-  std::vector<std::size_t> slot(mesh.number_of_vertices(), none);
+  std::vector<std::size_t> slot(mesh.num_vertices(), none);
   for (std::size_t i = 0; i < domain.size(); ++i) slot[std::size_t(domain[i])] = i;
   std::vector<std::size_t> unknown_of(domain.size(), none);
   std::size_t n = 0;
@@ -111,7 +113,7 @@ SymmetricCompletionReport complete_fills_by_symmetry(SurfaceMesh& mesh, const st
   auto reflect = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(p - 2.0 * (pn.dot(p) - pd) * pn); };
   auto reflect_dir = [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(v - 2.0 * pn.dot(v) * pn); };
 
-  std::vector<char> fill_face(mesh.number_of_faces(), 0);
+  std::vector<char> fill_face(mesh.num_faces(), 0);
   for (const auto& f : fills)
     for (FaceIndex fi : f) fill_face[std::size_t(fi)] = 1;
   Tree tree(faces(mesh).first, faces(mesh).second, mesh);
@@ -134,15 +136,15 @@ SymmetricCompletionReport complete_fills_by_symmetry(SurfaceMesh& mesh, const st
 
   // All targets come from the mesh as filled; the moves are applied at the end.
   std::vector<std::pair<VertexIndex, Eigen::Vector3d>> moves;
-  std::vector<char> in_fill(mesh.number_of_vertices(), 0), moved(mesh.number_of_vertices(), 0);
+  std::vector<char> in_fill(mesh.num_vertices(), 0), moved(mesh.num_vertices(), 0);
   for (std::size_t h = 0; h < fills.size(); ++h) {
     SymmetricHoleCompletion& hr = rep.holes[h];
     // The fill's own vertices (all their faces are this fill's), then the scanned vertices by
     // rings outward from the fill's border (depth 0).
-    std::vector<char> this_fill(mesh.number_of_faces(), 0);
+    std::vector<char> this_fill(mesh.num_faces(), 0);
     for (FaceIndex f : fills[h]) this_fill[std::size_t(f)] = 1;
     std::vector<VertexIndex> fill_v, rings;
-    std::vector<int> depth(mesh.number_of_vertices(), -1);
+    std::vector<int> depth(mesh.num_vertices(), -1);
     for (FaceIndex f : fills[h])
       for (VertexIndex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
         if (depth[std::size_t(v)] != -1 || in_fill[std::size_t(v)]) continue;
