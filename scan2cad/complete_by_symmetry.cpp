@@ -134,31 +134,35 @@ SymmetricCompletionReport complete_fills_by_symmetry(SurfaceMesh& mesh, const st
     return true;
   };
 
-  // All targets come from the mesh as filled; the moves are applied at the end.
-  std::vector<std::pair<VertexIndex, Eigen::Vector3d>> moves;
-  std::vector<char> in_fill(mesh.num_vertices(), 0), moved(mesh.num_vertices(), 0);
+  // Each fill's own vertices (all their faces are that fill's), marked for all fills first, so
+  // that one hole's rings never walk into another hole's fill.
+  std::vector<char> in_fill(mesh.num_vertices(), 0), this_fill(mesh.num_faces(), 0);
+  std::vector<std::vector<VertexIndex>> fill_vertices(fills.size());
   for (std::size_t h = 0; h < fills.size(); ++h) {
-    SymmetricHoleCompletion& hr = rep.holes[h];
-    // The fill's own vertices (all their faces are this fill's), then the scanned vertices by
-    // rings outward from the fill's border (depth 0).
-    std::vector<char> this_fill(mesh.num_faces(), 0);
     for (FaceIndex f : fills[h]) this_fill[std::size_t(f)] = 1;
-    std::vector<VertexIndex> fill_v, rings;
-    std::vector<int> depth(mesh.num_vertices(), -1);
     for (FaceIndex f : fills[h])
       for (VertexIndex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
-        if (depth[std::size_t(v)] != -1 || in_fill[std::size_t(v)]) continue;
+        if (in_fill[std::size_t(v)]) continue;
         bool only_fill = true;
         for (FaceIndex g : CGAL::faces_around_target(mesh.halfedge(v), mesh))
           only_fill = only_fill && g != SurfaceMesh::null_face() && this_fill[std::size_t(g)];
-        if (only_fill) {
-          in_fill[std::size_t(v)] = 1;
-          fill_v.push_back(v);
-        } else {
-          depth[std::size_t(v)] = 0;
-          rings.push_back(v);
-        }
+        if (only_fill) in_fill[std::size_t(v)] = 1, fill_vertices[h].push_back(v);
       }
+    for (FaceIndex f : fills[h]) this_fill[std::size_t(f)] = 0;
+  }
+
+  // All targets come from the mesh as filled; the moves are applied at the end.
+  std::vector<std::pair<VertexIndex, Eigen::Vector3d>> moves;
+  std::vector<char> moved(mesh.num_vertices(), 0);
+  for (std::size_t h = 0; h < fills.size(); ++h) {
+    SymmetricHoleCompletion& hr = rep.holes[h];
+    const std::vector<VertexIndex>& fill_v = fill_vertices[h];
+    // the scanned vertices by rings outward from the fill's border (depth 0)
+    std::vector<VertexIndex> rings;
+    std::vector<int> depth(mesh.num_vertices(), -1);
+    for (FaceIndex f : fills[h])
+      for (VertexIndex v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+        if (!in_fill[std::size_t(v)] && depth[std::size_t(v)] == -1) depth[std::size_t(v)] = 0, rings.push_back(v);
     const int last_depth = opt.border_band_rings + opt.ring_width - 1;
     for (std::size_t i = 0; i < rings.size(); ++i) {  // breadth first
       const VertexIndex v = rings[i];
