@@ -1,8 +1,8 @@
 #pragma once
 /// Surface reconstruction: a scanned point cloud [mm] becomes a triangle mesh.
 ///
-/// Steps: (1) grid simplification, (2) outlier removal (CGAL::remove_outliers on the k-NN
-/// distance), (3) jet smoothing, dropping points the jet moves far (spikes), (4) normals by jet
+/// Steps: (1) grid simplification, (2) outlier removal (CGAL::remove_outliers' test on the mean
+/// distance to the k nearest points, then on the 4 nearest: isolated points), (3) jet smoothing, dropping points the jet moves far (spikes), (4) normals by jet
 /// fitting and MST orientation when the cloud has none, (5) one CGAL reconstruction:
 ///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
 ///                      closed, smooth, fills scan holes; the default for heads;
@@ -37,7 +37,7 @@ struct ReconstructOptions {
   /// neighbours for spacing, outliers, normals and smoothing; default 24, range 6–200
   int neighbors = 24;
   /// a point is an outlier when its mean distance to its k neighbours exceeds this many times
-  /// the cloud's median spacing; default 3, range > 1
+  /// the cloud's mean k-NN spacing, or the same on its 4 nearest neighbours; default 3, range > 1
   double outlier_factor = 3.0;
   /// grid simplification cell [mm] applied before reconstruction (0 = none); dense scans are
   /// thinned to this spacing, which bounds time and memory; default 0.8 mm
