@@ -34,11 +34,17 @@ $(BUILD)/CMakeCache.txt: CMakeLists.txt
 build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
+# ctest runs JOBS tests at once, one per core, so each test gets one OpenMP thread (unless
+# OMP_NUM_THREADS is set): two-thread tests beside another test spun their threads on a busy core
+# (contact_hertz 114 s instead of 64 s single-threaded, the 200k-point heads 60 s instead of 40 s;
+# the whole ctest 615 s -> 437 s). Tests that compare thread counts set them themselves.
+TEST_ENV := OMP_NUM_THREADS=$${OMP_NUM_THREADS:-1}
+
 test: build
-	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 1500
+	cd $(BUILD) && $(TEST_ENV) ctest --output-on-failure -j $(JOBS) --timeout 1500
 
 test-fast: build
-	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+	cd $(BUILD) && $(TEST_ENV) ctest --output-on-failure -j $(JOBS) -LE slow
 
 # Each benchmark with the input its figures in the READMEs were measured on; bench_model needs
 # the medium_onesize case's surface meshes, so that case runs first.
