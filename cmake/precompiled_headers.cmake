@@ -8,7 +8,9 @@
 #
 # A PCH is only valid for files compiled with the same macros and code-generation flags, so the
 # variants are: tests (gtest.h, GTEST_HAS_PTHREAD) or not, -fopenmp (defines _OPENMP, which Eigen
-# tests) or not, and CGAL::Eigen3_support (CGAL_EIGEN3_ENABLED, tested by CGAL) or not. Targets
+# tests) or not, and CGAL::Eigen3_support (CGAL_EIGEN3_ENABLED, tested by CGAL) or not. The core
+# carries OpenMP and CGAL's Eigen support for every stage, so in practice there are two variants,
+# tests and the rest (there were six, ~20 s of CPU each, when libraries added them one by one). Targets
 # that do not link the core (no CGAL flags) get no PCH, nor do the solver and its users (solve_lib
 # sets -march, whose SSE macros Eigen tests, and the solver's files use no CGAL: loading the PCH
 # would cost them more than it saves).
@@ -69,12 +71,6 @@ function(pch_host variant is_test is_openmp is_cgal_eigen out)
     # The core's usage requirements (CGAL's -frounding-math and defines, Eigen, json, the source
     # root) through the libraries the core links publicly, not through the core itself, which
     # would make the core wait for its own PCH.
-    # (Imported targets are local to the folder that made them: the core's optional TBB support is
-    # made again here.)
-    if(USE_TBB AND NOT TARGET CGAL::TBB_support)
-      find_package(TBB REQUIRED)
-      include(CGAL_TBB_support)
-    endif()
     get_target_property(core_links pipeline INTERFACE_LINK_LIBRARIES)
     list(FILTER core_links EXCLUDE REGEX "^\\$<")
     get_target_property(core_includes pipeline INTERFACE_INCLUDE_DIRECTORIES)
