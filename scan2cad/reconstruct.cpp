@@ -11,11 +11,13 @@
 #include "scan2cad/reconstruct.h"
 
 #include <CGAL/Advancing_front_surface_reconstruction.h>
+#include <CGAL/Cartesian_converter.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_3.h>
 #include <CGAL/Search_traits_adapter.h>
 #include <CGAL/property_map.h>
 #include <boost/iterator/counting_iterator.hpp>
+#include <boost/iterator/transform_iterator.hpp>
 #include <CGAL/IO/PLY.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -193,7 +195,14 @@ bool poisson_reconstruction(const std::vector<PN>& pn, double spacing_mm, double
 }
 
 // Builds an oriented Surface_mesh from the triangles of an interpolating reconstruction.
-SurfaceMesh mesh_from_triangles(const std::vector<Point>& pts, const std::vector<std::array<std::size_t, 3>>& tris) {
+// The triangles are put in a canonical form first (each one's indices ascending, the list
+// sorted): advancing front gives the same triangles in an order, and with orientations, that
+// depend on the heap's addresses (the generated onesize cup, under reconstruct_cli's heap
+// layouts), and every later step (orientation, repair, remeshing) follows face order. The
+// orientation is the soup orientation's and orient_like_normals' anyway.
+SurfaceMesh mesh_from_triangles(const std::vector<Point>& pts, std::vector<std::array<std::size_t, 3>> tris) {
+  for (auto& t : tris) std::sort(t.begin(), t.end());
+  std::sort(tris.begin(), tris.end());
   std::vector<Point> points = pts;
   std::vector<std::vector<std::size_t>> polys(tris.size());
   for (std::size_t i = 0; i < tris.size(); ++i) polys[i].assign(tris[i].begin(), tris[i].end());
@@ -529,6 +538,30 @@ struct ShortEdgesFirst {
   }
 };
 
+// CGAL::advancing_front_surface_reconstruction(b, e, out, priority, ...), written out with
+// time-stamped vertex and cell bases (as the contouring's triangulation above): the front keeps
+// its candidate facets in std::sets ordered by priority and then by cell handle, the heap
+// address without a time stamp, so equal priorities were taken in an address order (the
+// generated onesize cup: 43,562 triangles, or 43,560 under either GLIBC_TUNABLES of
+// reconstruct_cli's heap-layout test).
+template <class Priority>
+void advancing_front_triangles(const std::vector<Point>& pts, const Priority& priority, double radius_ratio_bound,
+                               double beta, std::vector<std::array<std::size_t, 3>>& tris) {
+  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Vb = Time_stamped<CGAL::Advancing_front_surface_reconstruction_vertex_base_3<Kernel>>;
+  using Cb = Time_stamped<CGAL::Advancing_front_surface_reconstruction_cell_base_3<Kernel>>;
+  using Triangulation = CGAL::Delaunay_triangulation_3<Kernel, CGAL::Triangulation_data_structure_3<Vb, Cb>>;
+  using Reconstruction = CGAL::Advancing_front_surface_reconstruction<Triangulation, Priority>;
+  using Convert = CGAL::Cartesian_converter<pipeline::Kernel, Kernel>;
+  Convert convert;
+  // Auto_count_cc numbers the points in input order: the vertex ids of the output triples
+  Triangulation dt(boost::make_transform_iterator(pts.begin(), CGAL::AFSR::Auto_count_cc<Kernel::Point_3, Convert>(convert)),
+                   boost::make_transform_iterator(pts.end(), CGAL::AFSR::Auto_count_cc<Kernel::Point_3, Convert>(convert)));
+  Reconstruction reconstruction(dt, priority);
+  reconstruction.run(radius_ratio_bound, beta);
+  CGAL::write_triple_indices(std::back_inserter(tris), reconstruction);
+}
+
 }  // namespace
 
 ScanKind parse_scan_kind(const std::string& name) {
@@ -715,8 +748,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     std::vector<std::array<std::size_t, 3>> tris;
     if (opt.method == ReconstructMethod::advancing_front) {
       for (std::size_t i = 0; i < pn.size(); ++i) pts[i] = pn[i].first;
-      CGAL::advancing_front_surface_reconstruction(pts.begin(), pts.end(), std::back_inserter(tris),
-                                                   ShortEdgesFirst{opt.max_edge_spacings * st.spacing_mm}, 5.0, 0.52);
+      advancing_front_triangles(pts, ShortEdgesFirst{opt.max_edge_spacings * st.spacing_mm}, 5.0, 0.52, tris);
     } else {
       CGAL::Scale_space_surface_reconstruction_3<pipeline::Kernel> ss;
       for (const auto& p : pn) ss.insert(p.first);
