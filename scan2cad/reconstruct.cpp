@@ -547,14 +547,15 @@ struct ShortEdgesFirst {
 template <class Priority>
 void advancing_front_triangles(const std::vector<Point>& pts, const Priority& priority, double radius_ratio_bound,
                                double beta, std::vector<std::array<std::size_t, 3>>& tris) {
-  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Kernel = pipeline::Kernel;
   using Vb = Time_stamped<CGAL::Advancing_front_surface_reconstruction_vertex_base_3<Kernel>>;
   using Cb = Time_stamped<CGAL::Advancing_front_surface_reconstruction_cell_base_3<Kernel>>;
   using Triangulation = CGAL::Delaunay_triangulation_3<Kernel, CGAL::Triangulation_data_structure_3<Vb, Cb>>;
   using Reconstruction = CGAL::Advancing_front_surface_reconstruction<Triangulation, Priority>;
-  using Convert = CGAL::Cartesian_converter<pipeline::Kernel, Kernel>;
+  // Auto_count_cc numbers the points in input order (the vertex ids of the output triples); its
+  // converter is the identity here, since the points are already in the triangulation's kernel
+  using Convert = CGAL::Cartesian_converter<Kernel, Kernel>;
   Convert convert;
-  // Auto_count_cc numbers the points in input order: the vertex ids of the output triples
   Triangulation dt(boost::make_transform_iterator(pts.begin(), CGAL::AFSR::Auto_count_cc<Kernel::Point_3, Convert>(convert)),
                    boost::make_transform_iterator(pts.end(), CGAL::AFSR::Auto_count_cc<Kernel::Point_3, Convert>(convert)));
   Reconstruction reconstruction(dt, priority);

@@ -2,8 +2,9 @@
 /// Surface reconstruction: a scanned point cloud [mm] becomes a triangle mesh.
 ///
 /// Steps: (1) grid simplification, (2) outlier removal (CGAL::remove_outliers' test on the mean
-/// distance to the k nearest points, then on the 4 nearest: isolated points), (3) jet smoothing, dropping points the jet moves far (spikes), (4) normals by jet
-/// fitting and MST orientation when the cloud has none, (5) one CGAL reconstruction:
+/// distance to the k nearest points, then on the 4 nearest: isolated points), (3) jet smoothing,
+/// dropping points the jet moves far (spikes), (4) normals by jet fitting and MST orientation
+/// when the cloud has none, (5) one CGAL reconstruction:
 ///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
 ///                      closed, smooth, fills scan holes; the default for heads;
 ///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
