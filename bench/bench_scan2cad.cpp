@@ -19,7 +19,7 @@
 int main(int argc, char** argv) {
   std::string mesh_path, method_name = "auto", out_prefix;
   int points = 1000000, seed = 7;
-  double noise = 0.3, outliers = 0.01, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1, projection = -1, hole_cut = -1, poisson_cell = -1;
+  double noise = 0.3, outliers = 0.01, crossing = -1, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1, projection = -1, hole_cut = -1, poisson_cell = -1;
   int density_points = -1;
   scan2cad::RepairOptions ropt;
   pipeline::Cli cli("bench_scan2cad", "Times reconstruct + repair on a simulated scan of a mesh.");
@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   cli.option("-N", "--noise-mm", &noise, "Gaussian noise sigma [mm]", 0, 10);
   cli.option("-f", "--outliers", &outliers, "outlier fraction", 0, 0.4);
   cli.option("-M", "--method", &method_name, "reconstruction method (auto, poisson, advancing_front, scale_space)");
+  cli.option("-w", "--orientation-crossing-weight", &crossing, "MST cost of a link along the normals (-1: default)", -1, 100);
   cli.option("-c", "--cell", &cell, "grid simplification cell [mm] (-1: default)", -1, 50);
   cli.option("-C", "--denoised-cell", &denoised_cell, "grid cell after smoothing [mm] (-1: default)", -1, 50);
   cli.option("-g", "--poisson-cell", &poisson_cell, "grid cell of Poisson's input after the normals [mm] (-1: default)", -1, 50);
@@ -62,6 +63,7 @@ int main(int argc, char** argv) {
     // 2. Reconstruct + repair, timed
     scan2cad::ReconstructOptions opt;
     opt.method = scan2cad::parse_reconstruct_method(method_name, scan2cad::ScanKind::head);
+    if (crossing >= 0) opt.orientation_crossing_weight = crossing;
     if (cell >= 0) opt.simplify_cell_mm = cell;
     if (denoised_cell >= 0) opt.denoised_cell_mm = denoised_cell;
     if (pdist > 0) opt.poisson_distance_mm = pdist;

@@ -27,7 +27,6 @@
 #include <CGAL/Scale_space_reconstruction_3/Weighted_PCA_smoother.h>
 #include <CGAL/Scale_space_surface_reconstruction_3.h>
 #include <CGAL/grid_simplify_point_set.h>
-#include <CGAL/mst_orient_normals.h>
 #include <CGAL/poisson_surface_reconstruction.h>
 #include <CGAL/Eigen_solver_traits.h>
 #include <Eigen/Eigenvalues>
@@ -50,6 +49,7 @@
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/units.h"
+#include "scan2cad/internal/orient_normals.h"
 #include "scan2cad/internal/point_set_steps.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -445,7 +445,7 @@ std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k) {
 // sides: the scan is not a thin shell, and the MST normals are used as for heads.
 bool orient_thin_shell(std::vector<PN>& pn, unsigned k, ReconstructStats& st) {
   internal::jet_normals(pn, k);
-  pn.erase(CGAL::mst_orient_normals(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap())), pn.end());
+  internal::orient_normals(pn, k, 0.0);  // CGAL's weights: this is the mid-surface, a single sheet
   using Traits = CGAL::Search_traits_3<pipeline::Kernel>;
   using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
   std::vector<Point> pts(pn.size());
@@ -681,10 +681,11 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     st.normals_estimated = true;
     if (!st.thin_shell) st.outliers_removed += jet_smooth_and_despike(pn, k);  // one side: as for heads
   } else if (!has_normals) {
-    clock.start("normal estimation and orientation");
+    clock.start("normal estimation (jet fitting)");
     internal::jet_normals(pn, k);
-    // points MST cannot reach are dropped: their normal would be a coin toss
-    pn.erase(CGAL::mst_orient_normals(pn, k, CGAL::parameters::point_map(PointMap()).normal_map(NormalMap())), pn.end());
+    clock.start("normal orientation (minimum spanning tree)");
+    // points the tree cannot reach are dropped: their normal would be a coin toss
+    internal::orient_normals(pn, k, opt.orientation_crossing_weight);
     st.normals_estimated = true;
   }
   // spacing = mean distance to the 6 nearest neighbours (CGAL's Poisson convention)

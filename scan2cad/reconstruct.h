@@ -3,8 +3,9 @@
 ///
 /// Steps: (1) grid simplification, (2) outlier removal (CGAL::remove_outliers' test on the mean
 /// distance to the k nearest points, then on the 4 nearest: isolated points), (3) jet smoothing,
-/// dropping points the jet moves far (spikes), (4) normals by jet fitting and MST orientation
-/// when the cloud has none, (5) one CGAL reconstruction:
+/// dropping points the jet moves far (spikes), (4) normals by jet fitting and minimum-spanning-
+/// tree orientation that does not cross thin parts (internal/orient_normals.h) when the cloud
+/// has none, (5) one CGAL reconstruction:
 ///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
 ///                      closed, smooth, fills scan holes; the default for heads;
 ///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
@@ -74,6 +75,12 @@ struct ReconstructOptions {
   /// point (Poisson's fill of a scan hole) are cut out, so repair fills the hole with fairing
   /// that continues the surface around it; 0 = keep Poisson's fill. Default 2
   double hole_cut_spacings = 2.0;
+  /// normal orientation: extra cost of a link of the minimum spanning tree that runs along the
+  /// normals instead of within the tangent planes, so the tree does not cross thin parts (ear
+  /// ridges) to the other side (internal/orient_normals.h); 0 = CGAL's weights. Default 2: NIOSH
+  /// large at 150,000 / 300,000 points, repair failed / 9.9 mm with 0, 3.4 / 2.4 mm with 2
+  /// (1 gave 3.7 / 2.7, 4 gave 3.5 / 2.3; scan2cad/README.md)
+  double orientation_crossing_weight = 2.0;
   /// advancing front: longest edge of a facet, in multiples of the point spacing (longer
   /// facets are vetoed and left as holes for repair); default 5, range > 1
   double max_edge_spacings = 5.0;

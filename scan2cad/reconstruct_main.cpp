@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
   cli.option("-H", "--hole-cut-spacings", &opt.hole_cut_spacings,
              "Poisson: cut faces farther than this many spacings from the points (scan holes, filled by repair), 0 = off",
              0.0, 100.0);
+  cli.option("-w", "--orientation-crossing-weight", &opt.orientation_crossing_weight,
+             "normal orientation: cost of a tree link along the normals (across a thin part), 0 = CGAL's MST", 0.0,
+             100.0);
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
     opt.density_reference_points = std::size_t(density_points);

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -37,9 +38,9 @@ struct HeadRun {
   std::string error;  ///< empty when reconstruct + repair succeeded
 };
 
-generator::GenerateRequest scan_request() {
+generator::GenerateRequest scan_request(std::size_t points) {
   generator::GenerateRequest rq;
-  rq.points = 200000;
+  rq.points = points;
   rq.noise_mm = 0.3;
   rq.outlier_fraction = 0.01;
   rq.random_holes = 3;
@@ -52,8 +53,8 @@ generator::GenerateRequest scan_request() {
 const char* const kHeads[] = {"NIOSH_medium",    "NIOSH_large",          "generated_small",  "generated_medium",
                               "generated_large", "generated_longnarrow", "generated_shortwide"};
 
-HeadRun make_run(const std::string& name) {
-  HeadRun r{name, scan_request(), {}, {}, {}, {}, {}};
+HeadRun make_run(const std::string& name, std::size_t points = 200000) {
+  HeadRun r{name, scan_request(points), {}, {}, {}, {}, {}};
   const std::string niosh = "NIOSH_", generated = "generated_";
   if (name.rfind(niosh, 0) == 0) {
     r.request.mesh_path = std::string(SHARED_DATA_DIR) + "/headforms/" + name + "_20k.stl";
@@ -103,11 +104,11 @@ void print_distance(const std::string& name, const char* what, const scan2cad::S
 }
 
 // The head's run, computed on first use and kept for the process's other test of that head.
-const HeadRun& head_run(const std::string& name) {
-  static std::map<std::string, HeadRun> runs;
-  auto [it, first_use] = runs.try_emplace(name);
+const HeadRun& head_run(const std::string& name, std::size_t points = 200000) {
+  static std::map<std::pair<std::string, std::size_t>, HeadRun> runs;
+  auto [it, first_use] = runs.try_emplace({name, points});
   if (first_use) {
-    it->second = make_run(name);
+    it->second = make_run(name, points);
     run_one(it->second);
     const auto& r = it->second;
     print_distance(r.name, "", r.distance);
@@ -122,18 +123,20 @@ const HeadRun& head_run(const std::string& name) {
 }
 
 // Heads on which the symmetric Hausdorff distance ≤ 1 mm is not met, and why (measured
-// 2026-12-01; reference -> output). Each is a feature of the STL the 200k-point scan cannot
-// resolve:
-// - NIOSH medium 3.73 mm at (-3.3, -162.2, -115.0): the STL's neck cap ends in a thin lip along
-//   its back rim (a wedge of ~6 deg, 2-6 mm long, with folded flaps: 32 edges whose faces are
-//   back to back), which no closed surface reconstructed from points with 0.3 mm noise follows;
-// - NIOSH large 3.32 mm at the ear (79.0, 17.2, -12.6): a slot 1.6 mm wide and ~3 mm deep, two
-//   point spacings of the 200k scan (scan2cad/README.md).
+// 2026-12-02; reference -> output; scan2cad/README.md, session 11):
+// - NIOSH medium 3.96 mm at (-3.3, -162.2, -115.0): the STL's neck cap ends in a thin lip along
+//   its back rim (a wedge of ~8 deg, ~5 mm long), thinner than the 0.3 mm noise over its last
+//   4 mm. Beyond what any surface fitted to the points can follow, the scan has no point within
+//   2.3 mm of the lip's tip at (1.0, -162.2, -115.0): 1 mm there means inventing lip past the data;
+// - NIOSH large 3.15 mm at the ear (79.0, 17.2, -12.6): the top of a ridge 2-3 mm wide beside a
+//   1.6 mm slot, cut off by the 24-point jets (smoothing and normal directions; the scan has
+//   points within 0.5 mm of it). With the true normals and no smoothing it comes out right, so
+//   this one is a limit of the method, not of the data; the neck cap's sharp rim is next (1.4 mm).
 // The five generated heads meet it since the symmetric completion of the hole fills and the
 // isolated-outlier pass (0.78-0.94 mm); until then the fills of random holes over the eye socket
 // and beside the nose, and an outlier inside a nape hole, put them at 1.2-2.2 mm.
 const std::map<std::string, const char*> kHausdorffNotMet = {{"NIOSH_medium", "the STL's thin lip along the neck cap"},
-                                                             {"NIOSH_large", "the ear slot, 1.6 mm wide"}};
+                                                             {"NIOSH_large", "the top of an ear ridge 2-3 mm wide"}};
 
 class head_acceptance : public ::testing::TestWithParam<const char*> {};
 
@@ -165,3 +168,33 @@ TEST_P(head_acceptance, DISABLED_within_1mm_hausdorff) {
 
 INSTANTIATE_TEST_SUITE_P(head, head_acceptance, ::testing::ValuesIn(kHeads),
                          [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
+
+// The same NIOSH heads scanned at other densities: the ears must not come out wrong. Until the
+// normal orientation stopped crossing thin parts (scan2cad/internal/orient_normals.h), CGAL's
+// minimum spanning tree crossed the ears' 2-3 mm ridges at some densities: NIOSH large at 150,000
+// points, repair failed (self-intersections left); at 300,000 points 9.9 mm; NIOSH medium at
+// 150,000 points 12.9 mm, each at an ear. Now 3.4, 2.4 and 4.0 mm (the ear ridge's top and the
+// neck cap's lip, as at 200,000). The 4.5 mm bound is above those and far below a wrong ear.
+struct DensityCase {
+  const char* head;
+  std::size_t points;
+};
+void PrintTo(const DensityCase& c, std::ostream* os) { *os << c.head << " at " << c.points << " points"; }
+const DensityCase kDensities[] = {{"NIOSH_large", 150000}, {"NIOSH_large", 300000}, {"NIOSH_medium", 150000}};
+
+class head_density : public ::testing::TestWithParam<DensityCase> {};
+
+TEST_P(head_density, closed_manifold_and_no_ear_turned_inside_out) {
+  const HeadRun& r = head_run(GetParam().head, GetParam().points);
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_TRUE(r.report.closed);
+  EXPECT_TRUE(r.report.manifold);
+  EXPECT_FALSE(r.report.self_intersecting_after);
+  EXPECT_LE(r.distance.p95_mm, 0.3);
+  EXPECT_LE(r.distance.hausdorff_mm, 4.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(head, head_density, ::testing::ValuesIn(kDensities),
+                         [](const ::testing::TestParamInfo<DensityCase>& info) {
+                           return std::string(info.param.head) + "_" + std::to_string(info.param.points / 1000) + "k";
+                         });
