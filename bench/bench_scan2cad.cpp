@@ -29,6 +29,10 @@ int main(int argc, char** argv) {
   cli.option("-f", "--outliers", &outliers, "outlier fraction", 0, 0.4);
   cli.option("-M", "--method", &method_name, "reconstruction method (auto, poisson, advancing_front, scale_space)");
   cli.option("-w", "--orientation-crossing-weight", &crossing, "MST cost of a link along the normals (-1: default)", -1, 100);
+  double refit_min_cos = -2;
+  bool no_refit = false;
+  cli.flag("-R", "--no-own-side-refit", &no_refit, "keep the smoothing over plain neighbourhoods");
+  cli.option("-r", "--own-side-min-cos", &refit_min_cos, "own-side refit: normals' cosine of a same-side neighbour (-2: default)", -2, 1);
   cli.option("-c", "--cell", &cell, "grid simplification cell [mm] (-1: default)", -1, 50);
   cli.option("-C", "--denoised-cell", &denoised_cell, "grid cell after smoothing [mm] (-1: default)", -1, 50);
   cli.option("-g", "--poisson-cell", &poisson_cell, "grid cell of Poisson's input after the normals [mm] (-1: default)", -1, 50);
@@ -64,6 +68,8 @@ int main(int argc, char** argv) {
     scan2cad::ReconstructOptions opt;
     opt.method = scan2cad::parse_reconstruct_method(method_name, scan2cad::ScanKind::head);
     if (crossing >= 0) opt.orientation_crossing_weight = crossing;
+    opt.refit_on_own_side = !no_refit;
+    if (refit_min_cos >= -1) opt.refit_min_cos = refit_min_cos;
     if (cell >= 0) opt.simplify_cell_mm = cell;
     if (denoised_cell >= 0) opt.denoised_cell_mm = denoised_cell;
     if (pdist > 0) opt.poisson_distance_mm = pdist;

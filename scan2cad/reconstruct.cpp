@@ -50,6 +50,7 @@
 #include "pipeline/progress.h"
 #include "pipeline/units.h"
 #include "scan2cad/internal/orient_normals.h"
+#include "scan2cad/internal/refit_on_own_side.h"
 #include "scan2cad/internal/point_set_steps.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -404,7 +405,7 @@ ProjectionStats project_onto_points(SurfaceMesh& mesh, const std::vector<PN>& pn
 // k-NN distance, so outlier removal misses it, but its projection moves it by its height:
 // points moved by more than 4 robust standard deviations (1.4826 × median move) are removed,
 // the others keep their denoised position and their normal. Returns the number removed.
-std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k) {
+std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k, std::vector<Point>* unsmoothed = nullptr) {
   if (pn.size() <= k) return 0;
   std::vector<PN> smoothed = pn;
   internal::jet_smooth(smoothed, k);
@@ -415,8 +416,12 @@ std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k) {
   const double limit = 4.0 * 1.4826 * sorted[sorted.size() / 2];
   std::vector<PN> kept;
   kept.reserve(pn.size());
+  if (unsmoothed) unsmoothed->clear();
   for (std::size_t i = 0; i < pn.size(); ++i)
-    if (move[i] <= limit) kept.push_back({smoothed[i].first, pn[i].second});
+    if (move[i] <= limit) {
+      kept.push_back({smoothed[i].first, pn[i].second});
+      if (unsmoothed) unsmoothed->push_back(pn[i].first);
+    }
   const std::size_t removed = pn.size() - kept.size();
   pn.swap(kept);
   return removed;
@@ -660,9 +665,12 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
 
   // 3. Denoise and remove spikes (jet_smooth_and_despike). A thin respirator shell is
   //    smoothed side by side in step 4 instead (its neighbourhoods span both sides).
+  // The refit of step 4 starts again from the unsmoothed positions (kept beside pn).
+  const bool refit = !thin_shell_candidate && !has_normals && opt.refit_on_own_side && opt.denoised_cell_mm <= 0;
+  std::vector<Point> unsmoothed;
   if (!thin_shell_candidate) {
     clock.start("jet smoothing and spike removal");
-    st.outliers_removed += jet_smooth_and_despike(pn, k);
+    st.outliers_removed += jet_smooth_and_despike(pn, k, refit ? &unsmoothed : nullptr);
   }
 
   // 3b. The denoised points lie on the surface: thin them again to the grid. Before smoothing
@@ -685,8 +693,19 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     internal::jet_normals(pn, k);
     clock.start("normal orientation (minimum spanning tree)");
     // points the tree cannot reach are dropped: their normal would be a coin toss
-    internal::orient_normals(pn, k, opt.orientation_crossing_weight);
+    std::vector<std::size_t> reached;
+    internal::orient_normals(pn, k, opt.orientation_crossing_weight, refit ? &reached : nullptr);
     st.normals_estimated = true;
+    if (refit) {
+      clock.start("jet smoothing and normals again, each point on its own side");
+      for (std::size_t i = 0; i < reached.size(); ++i) unsmoothed[i] = unsmoothed[reached[i]];
+      unsmoothed.resize(reached.size());
+      const internal::RefitStats rs = internal::refit_on_own_side(pn, unsmoothed, k, opt.refit_min_cos);
+      st.outliers_removed += rs.spikes;
+      pipeline::log("reconstruct", "  " + std::to_string(rs.one_sided) + " points with one side in reach, " + std::to_string(rs.refitted) + " refitted, " +
+                                       std::to_string(rs.too_few) + " kept (too few on their side), " +
+                                       std::to_string(rs.spikes) + " spikes dropped");
+    }
   }
   // spacing = mean distance to the 6 nearest neighbours (CGAL's Poisson convention)
   clock.start("spacing");

@@ -5,7 +5,8 @@
 /// distance to the k nearest points, then on the 4 nearest: isolated points), (3) jet smoothing,
 /// dropping points the jet moves far (spikes), (4) normals by jet fitting and minimum-spanning-
 /// tree orientation that does not cross thin parts (internal/orient_normals.h) when the cloud
-/// has none, (5) one CGAL reconstruction:
+/// has none, then the points of thin parts smoothed again over their own side
+/// (internal/refit_on_own_side.h), (5) one CGAL reconstruction:
 ///   - poisson          screened-free Poisson (CGAL::poisson_surface_reconstruction_delaunay):
 ///                      closed, smooth, fills scan holes; the default for heads;
 ///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
@@ -81,6 +82,17 @@ struct ReconstructOptions {
   /// large at 150,000 / 300,000 points, repair failed / 9.9 mm with 0, 3.4 / 2.4 mm with 2
   /// (1 gave 3.7 / 2.7, 4 gave 3.5 / 2.3; scan2cad/README.md)
   double orientation_crossing_weight = 2.0;
+  /// once the normals are oriented, the points with the other side of a thin part among their
+  /// k nearest (an ear's ridge) are smoothed again from their unsmoothed positions, and get
+  /// new normals, over their own side's neighbours only (n_i . n_j > refit_min_cos), so the two
+  /// sides no longer pull each other flat (internal/refit_on_own_side.h). Off when
+  /// denoised_cell_mm > 0. Acceptance scans: NIOSH large 3.15 -> 2.50 mm, NIOSH medium 3.96 ->
+  /// 3.81 mm, the generated heads the same bytes (no point has the other side in reach)
+  bool refit_on_own_side = true;
+  /// default 0.5: NIOSH large / medium, 200k and 150k points, 0.3 gave 2.66 / 3.80 / 3.09 /
+  /// 3.75 mm, 0.5 2.50 / 3.81 / 3.32 / 3.76, 0.7 2.44 / 3.90 / 3.59 / 3.81 (and 300k NIOSH
+  /// large 2.05 / 1.70 / 2.03 mm); scan2cad/README.md
+  double refit_min_cos = 0.5;
   /// advancing front: longest edge of a facet, in multiples of the point spacing (longer
   /// facets are vetoed and left as holes for repair); default 5, range > 1
   double max_edge_spacings = 5.0;

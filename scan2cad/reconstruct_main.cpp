@@ -40,9 +40,16 @@ int main(int argc, char** argv) {
   cli.option("-w", "--orientation-crossing-weight", &opt.orientation_crossing_weight,
              "normal orientation: cost of a tree link along the normals (across a thin part), 0 = CGAL's MST", 0.0,
              100.0);
+  bool no_refit = false;
+  cli.flag("-R", "--no-own-side-refit", &no_refit,
+           "keep the smoothing over plain neighbourhoods (default: points with the other side of a thin part in "
+           "reach are smoothed again over their own side once oriented)");
+  cli.option("-r", "--own-side-min-cos", &opt.refit_min_cos,
+             "own-side refit: a neighbour is on a point's side when their normals' cosine exceeds this", -1.0, 1.0);
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
     opt.density_reference_points = std::size_t(density_points);
+    opt.refit_on_own_side = !no_refit;
     // 1. Options
     const auto kind = kind_unit.kind();
     opt.method = scan2cad::parse_reconstruct_method(method_name, kind);

@@ -21,7 +21,8 @@ using NeighborQuery = CGAL::Point_set_processing_3::internal::Neighbor_query<pip
 
 }  // namespace
 
-std::size_t orient_normals(std::vector<PN>& pn, unsigned k, double crossing_weight) {
+std::size_t orient_normals(std::vector<PN>& pn, unsigned k, double crossing_weight, std::vector<std::size_t>* reached) {
+  if (reached) reached->clear();
   if (pn.empty()) return 0;
   const std::size_t n = pn.size();
   // 1. Source: the top point, its normal turned to +z (CGAL's choice).
@@ -74,7 +75,10 @@ std::size_t orient_normals(std::vector<PN>& pn, unsigned k, double crossing_weig
   std::vector<PN> kept;
   kept.reserve(n);
   for (std::size_t i = 0; i < n; ++i)
-    if (tree[boost::vertex(i, tree)].is_oriented) kept.push_back(pn[i]);
+    if (tree[boost::vertex(i, tree)].is_oriented) {
+      kept.push_back(pn[i]);
+      if (reached) reached->push_back(i);
+    }
   const std::size_t dropped = n - kept.size();
   pn.swap(kept);
   return dropped;

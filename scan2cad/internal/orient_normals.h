@@ -31,8 +31,9 @@ namespace scan2cad::internal {
 ///                    in CGAL::mst_orient_normals' order (the reached ones, in input order)
 /// @param[in]     k   neighbours per point (≥ 2)
 /// @param[in]     crossing_weight  cost of a link running along the normals; 0 = CGAL's weights
+/// @param[out]    reached  if given, the input index of each point kept, in order
 /// @return the number of points dropped
 std::size_t orient_normals(std::vector<std::pair<pipeline::Point, pipeline::Vector>>& pn, unsigned k,
-                           double crossing_weight);
+                           double crossing_weight, std::vector<std::size_t>* reached = nullptr);
 
 }  // namespace scan2cad::internal

@@ -14,6 +14,7 @@
 #include "scan2cad/internal/orient_normals.h"
 #include "scan2cad/internal/point_set_steps.h"
 #include "test_meshes.h"
+#include "thin_disc_scan.h"
 
 namespace {
 
@@ -34,40 +35,10 @@ std::vector<PointWithNormal> sphere_with_jet_normals() {
   return pn;
 }
 
-// A closed disc 50 mm across and `thickness_mm` thick with a rounded rim (half a torus), sampled
-// like a 200,000-point head scan (1.2 points per mm², noise 0.2 mm along the normal), with jet
-// normals of either sign; and the true outward normal of each point.
-struct Disc {
-  std::vector<PointWithNormal> pn;
-  std::vector<Vector> outward;
-};
-Disc disc_scan(double thickness_mm) {
-  generator::Rng rng{9};
-  Disc s;
-  const double big = 25.0, r = thickness_mm / 2, pi = std::acos(-1.0);
-  auto add = [&](const Point& p, const Vector& n) {
-    s.pn.push_back({p + 0.2 * rng.normal() * n, Vector(0, 0, 1)});
-    s.outward.push_back(n);
-  };
-  const double density = 1.2;
-  for (int side : {-1, 1})
-    for (auto i = std::size_t(density * pi * big * big); i > 0; --i) {
-      const double rho = big * std::sqrt(rng.uniform()), phi = rng.uniform(0, 2 * pi);
-      add(Point(rho * std::cos(phi), rho * std::sin(phi), side * r), Vector(0, 0, side));
-    }
-  for (auto i = std::size_t(density * 2 * pi * big * pi * r); i > 0; --i) {
-    const double phi = rng.uniform(0, 2 * pi), theta = std::asin(rng.uniform(-1, 1));  // area-uniform enough
-    const Vector n(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta));
-    add(Point(big * std::cos(phi), big * std::sin(phi), 0) + r * n, n);
-  }
-  scan2cad::internal::jet_normals(s.pn, 24);
-  return s;
-}
-
 // Share of the points of the two flat faces, 3 mm or more inside the rim, whose oriented normal
 // points outward. The orientation is matched by position (the function keeps input order but
 // drops unreached points).
-double outward_share(const Disc& disc, const std::vector<PointWithNormal>& oriented) {
+double outward_share(const test_meshes::DiscScan& disc, const std::vector<PointWithNormal>& oriented) {
   std::map<Point, Vector> outward;
   for (std::size_t i = 0; i < disc.pn.size(); ++i) outward.emplace(disc.pn[i].first, disc.outward[i]);
   std::size_t n = 0, right = 0;
@@ -110,7 +81,7 @@ TEST(orient_normals, without_crossing_cost_it_is_cgals_minimum_spanning_tree) {
 // jets give no usable normals around a rim that bends with a radius under 1 mm.
 TEST(orient_normals, the_tree_does_not_cross_a_thin_disc) {
   for (const auto& [thickness_mm, least_share] : {std::pair{2.5, 0.99}, std::pair{3.0, 0.999}}) {
-    const Disc disc = disc_scan(thickness_mm);
+    const test_meshes::DiscScan disc = test_meshes::disc_scan(thickness_mm);
     std::vector<PointWithNormal> cgal_weights = disc.pn, crossing_cost = disc.pn;
     scan2cad::internal::orient_normals(cgal_weights, 24, 0.0);
     scan2cad::internal::orient_normals(crossing_cost, 24, 2.0);

@@ -1,0 +1,85 @@
+// Jet refit of oriented points over neighbourhoods on their own side; see refit_on_own_side.h.
+#include "scan2cad/internal/refit_on_own_side.h"
+
+#include <CGAL/Monge_via_jet_fitting.h>
+#include <CGAL/Point_set_processing_3/internal/Neighbor_query.h>
+#include <CGAL/property_map.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace scan2cad::internal {
+
+namespace {
+using PN = std::pair<pipeline::Point, pipeline::Vector>;
+using PointMap = CGAL::First_of_pair_property_map<PN>;
+using NeighborQuery = CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, const std::vector<PN>&, PointMap>;
+// jet_smooth_point_set's degrees
+constexpr std::size_t degree_fitting = 2, degree_monge = 2;
+}  // namespace
+
+RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Point>& raw, unsigned k, double min_cos) {
+  RefitStats st;
+  const std::size_t n = pn.size();
+  if (n <= k || raw.size() != n) return st;
+  std::vector<PN> raw_oriented(n);
+  for (std::size_t i = 0; i < n; ++i) raw_oriented[i] = {raw[i], pn[i].second};
+  std::vector<PN> fitted = pn;
+  std::vector<double> move(n, -1.0);  // -1: too few on its side, -2: no other side in reach
+  const unsigned candidates = 2 * k, least = std::max(6u, k / 2);
+  {
+    const NeighborQuery query(raw_oriented, PointMap());
+#pragma omp parallel for schedule(static)
+    for (long li = 0; li < long(n); ++li) {
+      const std::size_t i = std::size_t(li);
+      std::vector<std::vector<PN>::const_iterator> near;
+      query.get_iterators(raw[i], candidates, 0, std::back_inserter(near));
+      const pipeline::Vector& ni = pn[i].second;
+      // the fit's origin is its range's first point: the point itself
+      std::vector<pipeline::Point> own{raw[i]};
+      bool other_side = false;  // among the k nearest, as the smoothing saw them
+      for (std::size_t r = 0; r < near.size() && r < k; ++r) other_side |= near[r]->second * ni < 0;
+      if (!other_side) {
+        move[i] = -2;
+        continue;
+      }
+      for (const auto& it : near) {
+        if (own.size() == k) break;
+        if (std::size_t(it - raw_oriented.begin()) == i || it->second * ni <= min_cos) continue;
+        own.push_back(it->first);
+      }
+      if (own.size() < least) continue;
+      CGAL::Monge_via_jet_fitting<pipeline::Kernel> fit;
+      const auto form = fit(own.begin(), own.end(), degree_fitting, degree_monge);
+      const pipeline::Vector normal = form.normal_direction();
+      fitted[i] = {form.origin(), normal * ni < 0 ? -normal : normal};
+      move[i] = std::sqrt(CGAL::squared_distance(raw[i], form.origin()));
+    }
+  }
+  std::vector<double> moves;
+  for (double m : move)
+    if (m >= 0) moves.push_back(m);
+  st.one_sided = std::size_t(std::count(move.begin(), move.end(), -2.0));
+  if (moves.empty()) return st;
+  std::nth_element(moves.begin(), moves.begin() + long(moves.size() / 2), moves.end());
+  const double limit = 4.0 * 1.4826 * moves[moves.size() / 2];
+  std::vector<PN> kept;
+  kept.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (move[i] == -2.0) {
+      kept.push_back(pn[i]);
+    } else if (move[i] < 0) {
+      ++st.too_few;
+      kept.push_back(pn[i]);
+    } else if (move[i] > limit) {
+      ++st.spikes;
+    } else {
+      ++st.refitted;
+      kept.push_back(fitted[i]);
+    }
+  }
+  pn.swap(kept);
+  return st;
+}
+
+}  // namespace scan2cad::internal
