@@ -86,12 +86,11 @@ struct ReconstructOptions {
   /// k nearest (an ear's ridge) are smoothed again from their unsmoothed positions, and get
   /// new normals, over their own side's neighbours only (n_i . n_j > refit_min_cos), so the two
   /// sides no longer pull each other flat (internal/refit_on_own_side.h). Off when
-  /// denoised_cell_mm > 0. Acceptance scans: NIOSH large 3.15 -> 2.50 mm, NIOSH medium 3.96 ->
-  /// 3.81 mm, the generated heads the same bytes (no point has the other side in reach)
+  /// denoised_cell_mm > 0. Acceptance scans: NIOSH large 3.15 -> 2.23 mm, NIOSH medium 3.96 ->
+  /// 3.79 mm, the generated heads the same bytes (no point has the other side in reach)
   bool refit_on_own_side = true;
-  /// default 0.5: NIOSH large / medium, 200k and 150k points, 0.3 gave 2.66 / 3.80 / 3.09 /
-  /// 3.75 mm, 0.5 2.50 / 3.81 / 3.32 / 3.76, 0.7 2.44 / 3.90 / 3.59 / 3.81 (and 300k NIOSH
-  /// large 2.05 / 1.70 / 2.03 mm); scan2cad/README.md
+  /// default 0.5 (60 deg); 0.3 and 0.7 were no better on the five NIOSH scans of
+  /// scan2cad/README.md ("Thin parts smoothed over their own side")
   double refit_min_cos = 0.5;
   /// advancing front: longest edge of a facet, in multiples of the point spacing (longer
   /// facets are vetoed and left as holes for repair); default 5, range > 1

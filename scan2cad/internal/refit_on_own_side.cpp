@@ -33,16 +33,17 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Po
     for (long li = 0; li < long(n); ++li) {
       const std::size_t i = std::size_t(li);
       std::vector<std::vector<PN>::const_iterator> near;
-      query.get_iterators(raw[i], candidates, 0, std::back_inserter(near));
+      query.get_iterators(raw[i], k, 0, std::back_inserter(near));
       const pipeline::Vector& ni = pn[i].second;
-      // the fit's origin is its range's first point: the point itself
-      std::vector<pipeline::Point> own{raw[i]};
-      bool other_side = false;  // among the k nearest, as the smoothing saw them
-      for (std::size_t r = 0; r < near.size() && r < k; ++r) other_side |= near[r]->second * ni < 0;
-      if (!other_side) {
+      // the other side among the k nearest, as the smoothing saw them (most points: none)
+      if (std::none_of(near.begin(), near.end(), [&](const auto& it) { return it->second * ni < 0; })) {
         move[i] = -2;
         continue;
       }
+      near.clear();
+      query.get_iterators(raw[i], candidates, 0, std::back_inserter(near));
+      // the fit's origin is its range's first point: the point itself
+      std::vector<pipeline::Point> own{raw[i]};
       for (const auto& it : near) {
         if (own.size() == k) break;
         if (std::size_t(it - raw_oriented.begin()) == i || it->second * ni <= min_cos) continue;

@@ -7,11 +7,14 @@
 /// include the other side, so CGAL's jet smoothing pulls both sides toward the middle and the
 /// jet normals tilt; Poisson and the projection onto the points then cut the ridge's top off
 /// (NIOSH large: 3.15 mm; with the true normals and no smoothing 1.44 mm, scan2cad/README.md).
-/// Once oriented, the other side's normals point the other way. Here each point is fitted again
-/// from its unsmoothed position: CGAL's jet (Monge_via_jet_fitting, the degrees of
-/// jet_smooth_point_set) over its k nearest unsmoothed points whose oriented normal agrees with
-/// its own (n_i . n_j > min_cos); the point moves onto the jet and takes the jet's normal, with
-/// its old sign. CGAL's smoothing takes a plain k-NN neighbourhood, hence this step.
+/// Once oriented, the other side's normals point the other way. Here each point that has such a
+/// point (n_i . n_j < 0) among its k nearest is fitted again from its unsmoothed position: CGAL's
+/// jet (Monge_via_jet_fitting, the degrees of jet_smooth_point_set) over its k nearest of 2k
+/// unsmoothed candidates whose oriented normal agrees with its own (n_i . n_j > min_cos); the
+/// point moves onto the jet and takes the jet's normal, with its old sign. The other points keep
+/// CGAL's smoothing (refitting them too moved the generated heads' maxima under the nose toward
+/// 1 mm). CGAL's smoothing takes a plain k-NN neighbourhood, hence this step; the k-NN searches
+/// run on all OpenMP threads (static schedule: the same result every run).
 #include <cstddef>
 #include <utility>
 #include <vector>

@@ -62,8 +62,8 @@ Smoothed smoothed_and_oriented(std::vector<PointWithNormal> pn, const std::vecto
 // A disc 2.5 mm thick, 0.2 mm noise: 24 neighbours (radius ~2.5 mm) reach the other face from
 // most places on a face. Measured: CGAL's smoothing pulls each face 0.25 mm toward the middle
 // (mean |z| 1.002 mm where the scan's is 1.253) and leaves 28.8 % of the face normals within
-// 10 deg of the face's; after the refit 1.222 mm and 78.5 %. Bounds: the refit within 0.06 mm of
-// the scan (3,300 refitted points of 0.2 mm noise average to ~0.004 mm; what is left is the jet's
+// 10 deg of the face's; after the refit 1.237 mm and 83.1 %. Bounds: the refit within 0.06 mm of
+// the scan (3,600 refitted points of 0.2 mm noise average to ~0.004 mm; what is left is the jet's
 // bias near the rim), the smoothing at least 0.2 mm off, and the normals' shares apart by more
 // than the two measured figures' half-distance.
 TEST(refit_on_own_side, brings_back_the_two_faces_of_a_thin_disc) {
