@@ -702,7 +702,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       unsmoothed.resize(reached.size());
       const internal::RefitStats rs = internal::refit_on_own_side(pn, unsmoothed, k, opt.refit_min_cos);
       st.outliers_removed += rs.spikes;
-      pipeline::log("reconstruct", "  " + std::to_string(rs.one_sided) + " points with one side in reach, " + std::to_string(rs.refitted) + " refitted, " +
+      pipeline::log("reconstruct", "  " + std::to_string(rs.refitted) + " points with the other side in reach refitted, " +
                                        std::to_string(rs.too_few) + " kept (too few on their side), " +
                                        std::to_string(rs.spikes) + " spikes dropped");
     }

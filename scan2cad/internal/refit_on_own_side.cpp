@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace scan2cad::internal {
 
@@ -21,7 +22,8 @@ constexpr std::size_t degree_fitting = 2, degree_monge = 2;
 RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Point>& raw, unsigned k, double min_cos) {
   RefitStats st;
   const std::size_t n = pn.size();
-  if (n <= k || raw.size() != n) return st;
+  if (raw.size() != n) throw std::invalid_argument("refit_on_own_side: one unsmoothed position per point expected");
+  if (n <= k) return st;
   std::vector<PN> raw_oriented(n);
   for (std::size_t i = 0; i < n; ++i) raw_oriented[i] = {raw[i], pn[i].second};
   std::vector<PN> fitted = pn;

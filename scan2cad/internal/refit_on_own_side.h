@@ -34,6 +34,7 @@ struct RefitStats {
 /// @param[in,out] pn   oriented points [mm] with unit normals (smoothed positions); on return the
 ///                     refitted points, spikes dropped, order kept
 /// @param[in]     raw  the same points' unsmoothed positions, raw[i] for pn[i]
+///                     (@throws std::invalid_argument if the sizes differ)
 /// @param[in]     k    neighbours of a fit (≥ 6)
 /// @param[in]     min_cos  a neighbour is on the point's side when n_i . n_j > min_cos
 /// Spikes are dropped as by jet smoothing in reconstruct: points the fit moves by more than
