@@ -411,9 +411,7 @@ std::size_t jet_smooth_and_despike(std::vector<PN>& pn, unsigned k, std::vector<
   internal::jet_smooth(smoothed, k);
   std::vector<double> move(pn.size());
   for (std::size_t i = 0; i < pn.size(); ++i) move[i] = std::sqrt(CGAL::squared_distance(pn[i].first, smoothed[i].first));
-  std::vector<double> sorted = move;
-  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
-  const double limit = 4.0 * 1.4826 * sorted[sorted.size() / 2];
+  const double limit = internal::spike_move_limit_mm(move);
   std::vector<PN> kept;
   kept.reserve(pn.size());
   if (unsmoothed) unsmoothed->clear();

@@ -9,6 +9,7 @@
 #include <CGAL/remove_outliers.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace scan2cad::internal {
 
@@ -79,6 +80,13 @@ void jet_normals(std::vector<PointWithNormal>& pn, unsigned k) {
     });
   }
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i].second = normal[i];
+}
+
+double spike_move_limit_mm(std::vector<double> moves_mm) {
+  if (moves_mm.empty()) return std::numeric_limits<double>::infinity();
+  const auto middle = moves_mm.begin() + long(moves_mm.size() / 2);
+  std::nth_element(moves_mm.begin(), middle, moves_mm.end());
+  return 4.0 * 1.4826 * *middle;
 }
 
 }  // namespace scan2cad::internal

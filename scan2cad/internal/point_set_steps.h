@@ -35,4 +35,9 @@ void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k);
 /// CGAL::jet_estimate_normals(points, k): unoriented unit normals of the quadric jets.
 void jet_normals(std::vector<PointWithNormal>& pn, unsigned k);
 
+/// Not a CGAL step: the move [mm] above which a jet projection calls its point a spike, 4 robust
+/// standard deviations (1.4826 × the median) of `moves_mm`, the points' moves onto their jets.
+/// Infinite when there are no moves. Shared by reconstruct's smoothing and the own-side refit.
+double spike_move_limit_mm(std::vector<double> moves_mm);
+
 }  // namespace scan2cad::internal

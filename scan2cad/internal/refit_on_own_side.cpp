@@ -8,6 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
+
+#include "scan2cad/internal/point_set_steps.h"
 
 namespace scan2cad::internal {
 
@@ -62,14 +65,12 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Po
   std::vector<double> moves;
   for (double m : move)
     if (m >= 0) moves.push_back(m);
-  st.one_sided = std::size_t(std::count(move.begin(), move.end(), -2.0));
-  if (moves.empty()) return st;
-  std::nth_element(moves.begin(), moves.begin() + long(moves.size() / 2), moves.end());
-  const double limit = 4.0 * 1.4826 * moves[moves.size() / 2];
+  const double limit = spike_move_limit_mm(std::move(moves));
   std::vector<PN> kept;
   kept.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (move[i] == -2.0) {
+      ++st.one_sided;
       kept.push_back(pn[i]);
     } else if (move[i] < 0) {
       ++st.too_few;

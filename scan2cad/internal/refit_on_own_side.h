@@ -37,8 +37,8 @@ struct RefitStats {
 ///                     (@throws std::invalid_argument if the sizes differ)
 /// @param[in]     k    neighbours of a fit (≥ 6)
 /// @param[in]     min_cos  a neighbour is on the point's side when n_i . n_j > min_cos
-/// Spikes are dropped as by jet smoothing in reconstruct: points the fit moves by more than
-/// 4 robust standard deviations (1.4826 x the median move) of the refitted points' moves.
+/// Spikes are dropped as by jet smoothing in reconstruct (spike_move_limit_mm of the refitted
+/// points' moves, point_set_steps.h).
 RefitStats refit_on_own_side(std::vector<std::pair<pipeline::Point, pipeline::Vector>>& pn,
                              const std::vector<pipeline::Point>& raw, unsigned k, double min_cos);
 

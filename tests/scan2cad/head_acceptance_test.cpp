@@ -175,7 +175,8 @@ INSTANTIATE_TEST_SUITE_P(head, head_acceptance, ::testing::ValuesIn(kHeads),
 // minimum spanning tree crossed the ears' 2-3 mm ridges at some densities: NIOSH large at 150,000
 // points, repair failed (self-intersections left); at 300,000 points 9.9 mm; NIOSH medium at
 // 150,000 points 12.9 mm, each at an ear. Then 3.44, 2.42 and 4.04 mm; with the own-side refit
-// 2.98, 2.18 and 3.73 mm (the ear fin's top and the neck cap's lip, as at 200,000). The 4.5 mm bound is above those and far below a wrong ear.
+// 2.98, 2.18 and 3.73 mm (the ear fin's top and the neck cap's lip, as at 200,000). The 4.5 mm
+// bound is above those and far below a wrong ear.
 struct DensityCase {
   const char* head;
   std::size_t points;
