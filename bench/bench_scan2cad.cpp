@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   std::string mesh_path, method_name = "auto", out_prefix;
   int points = 1000000, seed = 7;
   double noise = 0.3, outliers = 0.01, crossing = -1, cell = -1, denoised_cell = -1, pdist = -1, cg_tol = -1, projection = -1, hole_cut = -1, poisson_cell = -1;
-  int density_points = -1;
+  int density_points = -1, untangle = -1;
+  bool thin_parts_thinned = false;
   scan2cad::RepairOptions ropt;
   pipeline::Cli cli("bench_scan2cad", "Times reconstruct + repair on a simulated scan of a mesh.");
   cli.option("-m", "--mesh", &mesh_path, "reference surface (STL/PLY/OFF/OBJ)", pipeline::required);
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
   cli.option("-T", "--cg-tolerance", &cg_tol, "Poisson CG relative tolerance (-1: default)", -1, 1);
   cli.option("-P", "--projection-max-move", &projection, "Poisson vertices onto the points: largest move [mm], 0 = off (-1: default)", -1, 50);
   cli.option("-H", "--hole-cut-spacings", &hole_cut, "cut Poisson faces this many spacings from the points, 0 = off (-1: default)", -1, 100);
+  cli.flag("-G", "--poisson-thin-parts-thinned", &thin_parts_thinned, "Poisson: thin the points of thin parts too");
+  cli.option("-U", "--untangle-rounds", &untangle, "rounds of refilling faces the projection made cross (-1: default)", -1, 20);
   cli.option("-e", "--edge", &ropt.target_edge_mm, "repair target edge [mm]", 0, 50);
   cli.option("-s", "--smooth", &ropt.smoothing_iterations, "repair smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &ropt.smoothing_time, "repair smoothing time step", 1e-9, 1);
@@ -78,6 +81,8 @@ int main(int argc, char** argv) {
     if (cg_tol > 0) opt.poisson_solver_tolerance = cg_tol;
     if (projection >= 0) opt.projection_max_move_mm = projection;
     if (hole_cut >= 0) opt.hole_cut_spacings = hole_cut;
+    opt.poisson_keep_thin_parts = !thin_parts_thinned;
+    if (untangle >= 0) opt.untangle_rounds = untangle;
     auto t0 = clock::now();
     scan2cad::ReconstructStats rs;
     const auto rec = scan2cad::reconstruct(cloud, scan2cad::ScanKind::head, opt, &rs);

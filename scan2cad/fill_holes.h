@@ -22,6 +22,17 @@ struct HoleInfo {
   std::size_t faces_added = 0;
 };
 
+/// Fills one boundary loop of `mesh` in place (CGAL triangulate_refine_and_fair_hole,
+/// tangent-continuous fairing, refined to about `fill_edge_mm` inside).
+///
+/// @param[in,out] mesh    triangle mesh [mm]
+/// @param[in]     border  a border halfedge of the loop (its face is null)
+/// @param[out]    faces, vertices  optional: the faces and the inner vertices the fill added
+/// @return the loop's HoleInfo (kept_open false)
+HoleInfo fill_hole(pipeline::SurfaceMesh& mesh, pipeline::SurfaceMesh::Halfedge_index border, double fill_edge_mm = 1.0,
+                   std::vector<pipeline::FaceIndex>* faces = nullptr,
+                   std::vector<pipeline::VertexIndex>* vertices = nullptr);
+
 /// Fills the holes of `mesh` in place.
 ///
 /// @param[in,out] mesh  triangle mesh [mm]; new faces have edge lengths like their borders

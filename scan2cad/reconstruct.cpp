@@ -14,9 +14,7 @@
 #include <CGAL/Cartesian_converter.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_3.h>
-#include <CGAL/Search_traits_adapter.h>
 #include <CGAL/property_map.h>
-#include <boost/iterator/counting_iterator.hpp>
 #include <boost/iterator/transform_iterator.hpp>
 #include <CGAL/IO/PLY.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -52,6 +50,7 @@
 #include "scan2cad/internal/orient_normals.h"
 #include "scan2cad/internal/refit_on_own_side.h"
 #include "scan2cad/internal/point_set_steps.h"
+#include "scan2cad/internal/project_onto_points.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 using pipeline::Point;
@@ -231,32 +230,6 @@ void orient_like_normals(SurfaceMesh& mesh, const std::vector<Point>& pts, const
   if (vote < 0) PMP::reverse_face_orientations(mesh);
 }
 
-// k-d tree over the denoised points (CGAL's spatial search), shared by the two steps after
-// Poisson that look at the points near each output vertex.
-class PointTree {
-  using TraitsBase = CGAL::Search_traits_3<pipeline::Kernel>;
-  using PointPmap = CGAL::Pointer_property_map<Point>::type;
-  using Traits = CGAL::Search_traits_adapter<std::size_t, PointPmap, TraitsBase>;
-
- public:
-  using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
-  explicit PointTree(const std::vector<PN>& pn) : pts_(pn.size()) {
-    for (std::size_t i = 0; i < pn.size(); ++i) pts_[i] = pn[i].first;
-    ppmap_ = CGAL::make_property_map(pts_);
-    tree_ = std::make_unique<Search::Tree>(boost::counting_iterator<std::size_t>(0),
-                                           boost::counting_iterator<std::size_t>(pts_.size()), Search::Tree::Splitter(),
-                                           Traits(ppmap_));
-  }
-  /// the k nearest points of p, nearest first (first: point index, second: squared distance)
-  Search nearest(const Point& p, unsigned k) const { return Search(*tree_, p, k, 0, true, Search::Distance(ppmap_)); }
-  const Point& point(std::size_t i) const { return pts_[i]; }
-
- private:
-  std::vector<Point> pts_;
-  PointPmap ppmap_;
-  std::unique_ptr<Search::Tree> tree_;
-};
-
 // Cuts out what Poisson made where the scan has no points: every face with a vertex farther
 // than `max_distance_mm` from all denoised points. Poisson closes a scan hole with the smooth
 // surface its implicit function happens to have there, which bulges or sags over curved places
@@ -265,7 +238,7 @@ class PointTree {
 // continues the surface's curvature across the hole. Faces are also removed around a vertex
 // the cut would leave with two separate fans (a pinch), so the rest stays a manifold mesh.
 // Returns the number of faces removed; the mesh is rebuilt without them.
-std::size_t cut_unsupported_faces(SurfaceMesh& mesh, const PointTree& tree, double max_distance_mm) {
+std::size_t cut_unsupported_faces(SurfaceMesh& mesh, const internal::PointTree& tree, double max_distance_mm) {
   std::vector<char> far(mesh.number_of_vertices(), 0);
   const double max2 = max_distance_mm * max_distance_mm;
   for (auto v : mesh.vertices()) far[std::size_t(v)] = tree.nearest(mesh.point(v), 1).begin()->second > max2;
@@ -314,90 +287,6 @@ std::size_t cut_unsupported_faces(SurfaceMesh& mesh, const PointTree& tree, doub
   PMP::polygon_soup_to_polygon_mesh(points, faces, kept);
   mesh = std::move(kept);
   return n_cut;
-}
-
-// Moves every vertex of a Poisson mesh onto the surface the denoised points describe near it.
-// Poisson approximates: its implicit function is smooth over a few point spacings, so thin or
-// sharply curved features (ear rims, the nostrils, under the nose tip) come out rounded by
-// 1-3 mm although the denoised points lie on them. Each vertex is moved along its normal to a
-// weighted least-squares quadric (height over the vertex's tangent plane, Gaussian weights) of
-// its k nearest denoised points whose oriented normals agree with the vertex normal (within
-// 60 deg): on an ear the points of the other side have the opposite normal and are left out, so
-// the fit never straddles the ear. A vertex is left in place where the fit is not supported:
-// fewer than 6 agreeing points, the nearest one farther than 2 point spacings (a scan hole,
-// which Poisson filled), or a move above `max_move_mm` (the fit extrapolates). All vertices move
-// at once (from the same mesh), then the mesh is used as Poisson's was. CGAL projects points onto
-// jets of the same point set (jet_smooth_point_set) but has no projection of one set (the mesh
-// vertices) onto another (the points), hence written here; it is an MLS-style projection.
-struct ProjectionStats {
-  std::size_t vertices = 0, moved = 0, unsupported = 0;
-  double mean_move_mm = 0, max_move_mm = 0;
-};
-ProjectionStats project_onto_points(SurfaceMesh& mesh, const std::vector<PN>& pn, const PointTree& tree, unsigned k,
-                                    double spacing_mm, double max_move_mm) {
-  ProjectionStats ps;
-  ps.vertices = mesh.number_of_vertices();
-  if (pn.size() < k || mesh.is_empty()) return ps;
-  std::vector<Vector> vnormal(mesh.number_of_vertices(), Vector(0, 0, 0));
-  for (auto v : mesh.vertices())
-    if (!mesh.is_isolated(v)) vnormal[std::size_t(v)] = PMP::compute_vertex_normal(v, mesh);
-  // The points' MST orientation is consistent but may be globally inward: one vote fixes the sign.
-  double vote = 0;
-  for (auto v : mesh.vertices()) {
-    vote += vnormal[std::size_t(v)] * pn[tree.nearest(mesh.point(v), 1).begin()->first].second;
-  }
-  const double sign = vote < 0 ? -1.0 : 1.0;
-  std::vector<Point> moved(mesh.number_of_vertices());
-  double sum_move = 0;
-  std::vector<Eigen::Vector3d> local;
-  std::vector<double> weight;
-  for (auto v : mesh.vertices()) {
-    const Point p = mesh.point(v);
-    moved[std::size_t(v)] = p;
-    const Vector& nv = vnormal[std::size_t(v)];
-    if (nv == Vector(0, 0, 0)) continue;
-    const Eigen::Vector3d w(nv.x(), nv.y(), nv.z());
-    const Eigen::Vector3d u = w.unitOrthogonal(), t = w.cross(u);
-    local.clear();
-    double nearest2 = 1e300, farthest2 = 0;
-    for (const auto& nb : tree.nearest(p, k)) {
-      if (sign * (pn[nb.first].second * nv) < 0.5) continue;  // other side of a thin feature
-      const Point& q = tree.point(nb.first);
-      const Eigen::Vector3d d(q.x() - p.x(), q.y() - p.y(), q.z() - p.z());
-      local.emplace_back(d.dot(u), d.dot(t), d.dot(w));
-      nearest2 = std::min(nearest2, nb.second);
-      farthest2 = std::max(farthest2, nb.second);
-    }
-    if (local.size() < 6 || nearest2 > 4.0 * spacing_mm * spacing_mm) {
-      ++ps.unsupported;
-      continue;
-    }
-    // height h(x, y) = c0 + c1 x + c2 y + c3 x^2 + c4 x y + c5 y^2; the vertex goes to c0
-    const double sigma2 = std::max(farthest2, 1e-12) / 4.0;
-    const bool quadric = local.size() >= 10;
-    const int n_coef = quadric ? 6 : 3;
-    Eigen::MatrixXd a(local.size(), n_coef);
-    Eigen::VectorXd b(local.size());
-    for (std::size_t i = 0; i < local.size(); ++i) {
-      const double x = local[i].x(), y = local[i].y();
-      const double wi = std::exp(-(x * x + y * y) / (2.0 * sigma2));
-      a(long(i), 0) = wi, a(long(i), 1) = wi * x, a(long(i), 2) = wi * y;
-      if (quadric) a(long(i), 3) = wi * x * x, a(long(i), 4) = wi * x * y, a(long(i), 5) = wi * y * y;
-      b(long(i)) = wi * local[i].z();
-    }
-    const double c0 = a.colPivHouseholderQr().solve(b)(0);
-    if (!std::isfinite(c0) || std::abs(c0) > max_move_mm) {
-      ++ps.unsupported;
-      continue;
-    }
-    moved[std::size_t(v)] = p + c0 * Vector(w.x(), w.y(), w.z());
-    ++ps.moved;
-    sum_move += std::abs(c0);
-    ps.max_move_mm = std::max(ps.max_move_mm, std::abs(c0));
-  }
-  for (auto v : mesh.vertices()) mesh.point(v) = moved[std::size_t(v)];
-  ps.mean_move_mm = ps.moved ? sum_move / double(ps.moved) : 0;
-  return ps;
 }
 
 // Denoise and remove spikes: each point is projected onto the jet (quadric) fitted to its k
@@ -666,6 +555,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   // The refit of step 4 starts again from the unsmoothed positions (kept beside pn).
   const bool refit = !thin_shell_candidate && !has_normals && opt.refit_on_own_side && opt.denoised_cell_mm <= 0;
   std::vector<Point> unsmoothed;
+  std::vector<char> thin_part;  // per point of pn after step 4: the other side of a thin part in reach
   if (!thin_shell_candidate) {
     clock.start("jet smoothing and spike removal");
     st.outliers_removed += jet_smooth_and_despike(pn, k, refit ? &unsmoothed : nullptr);
@@ -698,7 +588,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       clock.start("jet smoothing and normals again, each point on its own side");
       for (std::size_t i = 0; i < reached.size(); ++i) unsmoothed[i] = unsmoothed[reached[i]];
       unsmoothed.resize(reached.size());
-      const internal::RefitStats rs = internal::refit_on_own_side(pn, unsmoothed, k, opt.refit_min_cos);
+      const internal::RefitStats rs = internal::refit_on_own_side(pn, unsmoothed, k, opt.refit_min_cos, &thin_part);
       st.outliers_removed += rs.spikes;
       pipeline::log("reconstruct", "  " + std::to_string(rs.refitted) + " points with the other side in reach refitted, " +
                                        std::to_string(rs.too_few) + " kept (too few on their side), " +
@@ -721,9 +611,23 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     double poisson_spacing_mm = st.spacing_mm;
     if (opt.poisson_cell_mm > 0) {
       clock.start("grid simplification of Poisson's input");
-      thinned = pn;
+      // Points of thin parts (the other side in reach, flagged by the refit) all go to Poisson:
+      // a cell of the grid holds both sides of a fin under 2 mm across, and with one point per
+      // cell Poisson cut NIOSH large's ear fin 4 mm low (2.5 mm after the projection); with them,
+      // 1.4 mm low (0.5 mm after the projection). About 700 points on a NIOSH scan, none on the
+      // generated heads.
+      std::vector<PN> thin_points;
+      if (opt.poisson_keep_thin_parts && thin_part.size() == pn.size()) {
+        for (std::size_t i = 0; i < pn.size(); ++i) (thin_part[i] ? thin_points : thinned).push_back(pn[i]);
+      } else {
+        thinned = pn;
+      }
       thinned.erase(CGAL::grid_simplify_point_set(thinned, opt.poisson_cell_mm, CGAL::parameters::point_map(PointMap())),
                     thinned.end());
+      thinned.insert(thinned.end(), thin_points.begin(), thin_points.end());
+      st.poisson_thin_points_kept = thin_points.size();
+      pipeline::log("reconstruct", "  " + std::to_string(thinned.size()) + " points for Poisson, of them " +
+                                       std::to_string(thin_points.size()) + " of thin parts, not thinned");
       poisson_spacing_mm = poisson_spacing(thinned);
     }
     const std::vector<PN>& poisson_input = opt.poisson_cell_mm > 0 ? thinned : pn;
@@ -737,7 +641,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
                                 mesh, clock))
       throw pipeline::algorithm_failed("point cloud", "Poisson reconstruction failed (normals inconsistent?)");
     if (CGAL::is_closed(mesh) && !PMP::is_outward_oriented(mesh)) PMP::reverse_face_orientations(mesh);
-    const PointTree tree(pn);
+    const internal::PointTree tree(pn);
     if (opt.hole_cut_spacings > 0) {
       clock.start("cutting out Poisson's fill of the scan holes");
       st.faces_cut = cut_unsupported_faces(mesh, tree, opt.hole_cut_spacings * st.spacing_mm);
@@ -751,7 +655,10 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       // vertices: NIOSH large, 200k points, p95 0.212 mm instead of 0.189, Hausdorff 3.17
       // instead of 2.92 mm, and 10 s more CPU (many vertices each following its own fit's noise);
       // 3 passes with the vertex normals recomputed in between: Hausdorff 3.08 mm, p95 0.191
-      const ProjectionStats ps = project_onto_points(mesh, pn, tree, k, st.spacing_mm, opt.projection_max_move_mm);
+      const double sign = internal::point_normal_sign(mesh, pn, tree);
+      const std::vector<pipeline::VertexIndex> all(mesh.vertices().begin(), mesh.vertices().end());
+      const internal::ProjectionStats ps =
+          internal::project_onto_points(mesh, all, sign, pn, tree, k, st.spacing_mm, opt.projection_max_move_mm);
       st.projected_vertices = ps.moved;
       st.unprojected_vertices = ps.unsupported;
       st.projection_mean_mm = ps.mean_move_mm;
@@ -760,6 +667,17 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       std::snprintf(line, sizeof line, "  %zu vertices moved (mean %.3f mm, max %.3f mm), %zu without support left",
                     ps.moved, ps.mean_move_mm, ps.max_move_mm, ps.unsupported);
       pipeline::log("reconstruct", line);
+      if (opt.untangle_rounds > 0) {
+        clock.start("untangling the faces the projection made cross");
+        const internal::UntangleStats us = internal::untangle_crossings(
+            mesh, sign, pn, tree, k, st.spacing_mm, opt.projection_max_move_mm, opt.untangle_rounds);
+        st.untangle_faces_cut = us.faces_cut;
+        st.crossing_faces_left = us.crossing_left;
+        std::snprintf(line, sizeof line,
+                      "  %d rounds: %zu faces cut, %zu gaps filled, %zu patch vertices projected, %zu crossing faces left",
+                      us.rounds, us.faces_cut, us.gaps_filled, us.vertices_projected, us.crossing_left);
+        pipeline::log("reconstruct", line);
+      }
     }
   } else {
     clock.start(reconstruct_method_name(opt.method) + " reconstruction of " + std::to_string(pn.size()) + " points");

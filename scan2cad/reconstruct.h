@@ -14,7 +14,8 @@
 ///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
 /// (6) Poisson only: the faces it made where the scan has no points are cut out (repair fills
 /// those holes with fairing), then every output vertex is moved onto a local quadric of its
-/// nearest denoised points whose normals agree with it (Poisson rounds ear rims and the nose by 1-3 mm).
+/// nearest denoised points whose normals agree with it (Poisson rounds ear rims and the nose by
+/// 1-3 mm), and faces that move made cross are cut out and refilled (internal/project_onto_points.h).
 /// The defaults come from measurements on noisy NIOSH headform scans; see README.md. Respirator
 /// scans of the whole cup (a thin closed shell, wall ~1.5 mm, no normals): the two sides are
 /// separated before normal orientation and only the inner side (toward the face) is kept and
@@ -65,6 +66,11 @@ struct ReconstructOptions {
   /// NIOSH medium scan, Poisson 24.6 + 16.4 s CPU -> 9.1 + 8.2 s, p95 0.176 -> 0.180 mm
   /// (scan2cad/README.md, "Poisson on a thinned copy")
   double poisson_cell_mm = 1.0;
+  /// Poisson: the points of thin parts (those with the other side among their k nearest, found
+  /// by the own-side refit) all go to Poisson, only the others are thinned to poisson_cell_mm.
+  /// Default on: NIOSH large's ear fin (~1.5 mm across) came out 2.5 mm low after the projection
+  /// with the fin thinned too, 0.5 mm with it kept (README.md, session 14). No effect without the refit
+  bool poisson_keep_thin_parts = true;
   /// Poisson contouring accuracy: largest distance of a facet to the implicit surface [mm];
   /// default 0.05, range > 0
   double poisson_distance_mm = 0.05;
@@ -72,6 +78,10 @@ struct ReconstructOptions {
   /// agree with it (reconstruct.cpp, project_onto_points); 0 = off, else the largest move [mm]
   /// (a larger one is an extrapolation and the vertex stays). Default 3 mm
   double projection_max_move_mm = 3.0;
+  /// Poisson with projection: rounds of internal::untangle_crossings after it (faces the projection
+  /// made cross are cut out, each gap filled with a faired patch that is projected again); 0 =
+  /// none, the crossings are left to repair, which fills them flat. Default 3
+  int untangle_rounds = 3;
   /// Poisson: faces with a vertex farther than this many point spacings from every denoised
   /// point (Poisson's fill of a scan hole) are cut out, so repair fills the hole with fairing
   /// that continues the surface around it; 0 = keep Poisson's fill. Default 2
@@ -115,6 +125,10 @@ struct ReconstructStats {
   /// Poisson faces cut out where the scan has no points (ReconstructOptions::hole_cut_spacings)
   std::size_t faces_cut = 0;
   double projection_mean_mm = 0, projection_max_mm = 0;
+  /// Poisson: points of thin parts given to Poisson unthinned (ReconstructOptions::poisson_keep_thin_parts)
+  std::size_t poisson_thin_points_kept = 0;
+  /// faces the untangling cut out after the projection, and faces still crossing (repair cuts them)
+  std::size_t untangle_faces_cut = 0, crossing_faces_left = 0;
   /// points left after step 1 (density cap and grid)
   std::size_t points_after_thinning = 0;
   /// wall and process-CPU seconds of each step, in order (the CPU time counts all threads of

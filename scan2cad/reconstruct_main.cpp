@@ -28,6 +28,9 @@ int main(int argc, char** argv) {
   cli.option("-g", "--poisson-cell", &opt.poisson_cell_mm,
              "Poisson: grid cell of its input after the normals [mm], 0 = all points (cut and projection use all)",
              0.0, 50.0);
+  bool thin_parts_thinned = false;
+  cli.flag("-G", "--poisson-thin-parts-thinned", &thin_parts_thinned,
+           "Poisson: thin the points of thin parts to --poisson-cell like the rest (default: all of them go to Poisson)");
   cli.option("-d", "--poisson-distance", &opt.poisson_distance_mm, "Poisson contouring accuracy [mm]", 1e-3, 10.0);
   int density_points = int(opt.density_reference_points);
   cli.option("-D", "--density-reference", &density_points,
@@ -37,6 +40,9 @@ int main(int argc, char** argv) {
   cli.option("-H", "--hole-cut-spacings", &opt.hole_cut_spacings,
              "Poisson: cut faces farther than this many spacings from the points (scan holes, filled by repair), 0 = off",
              0.0, 100.0);
+  cli.option("-U", "--untangle-rounds", &opt.untangle_rounds,
+             "Poisson: rounds of cutting out and refilling faces the projection made cross, 0 = leave them to repair", 0,
+             20);
   cli.option("-w", "--orientation-crossing-weight", &opt.orientation_crossing_weight,
              "normal orientation: cost of a tree link along the normals (across a thin part), 0 = CGAL's MST", 0.0,
              100.0);
@@ -50,6 +56,7 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     opt.density_reference_points = std::size_t(density_points);
     opt.refit_on_own_side = !no_refit;
+    opt.poisson_keep_thin_parts = !thin_parts_thinned;
     // 1. Options
     const auto kind = kind_unit.kind();
     opt.method = scan2cad::parse_reconstruct_method(method_name, kind);

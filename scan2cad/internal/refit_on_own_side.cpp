@@ -22,10 +22,12 @@ using NeighborQuery = CGAL::Point_set_processing_3::internal::Neighbor_query<pip
 constexpr std::size_t degree_fitting = 2, degree_monge = 2;
 }  // namespace
 
-RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Point>& raw, unsigned k, double min_cos) {
+RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
+                             std::vector<char>* thin) {
   RefitStats st;
   const std::size_t n = pn.size();
   if (raw.size() != n) throw std::invalid_argument("refit_on_own_side: one unsmoothed position per point expected");
+  if (thin) thin->assign(n, 0);
   if (n <= k) return st;
   std::vector<PN> raw_oriented(n);
   for (std::size_t i = 0; i < n; ++i) raw_oriented[i] = {raw[i], pn[i].second};
@@ -68,6 +70,7 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Po
   const double limit = spike_move_limit_mm(std::move(moves));
   std::vector<PN> kept;
   kept.reserve(n);
+  if (thin) thin->clear();
   for (std::size_t i = 0; i < n; ++i) {
     if (move[i] == -2.0) {
       ++st.one_sided;
@@ -77,10 +80,12 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Po
       kept.push_back(pn[i]);
     } else if (move[i] > limit) {
       ++st.spikes;
+      continue;
     } else {
       ++st.refitted;
       kept.push_back(fitted[i]);
     }
+    if (thin) thin->push_back(move[i] != -2.0);
   }
   pn.swap(kept);
   return st;

@@ -37,9 +37,13 @@ struct RefitStats {
 ///                     (@throws std::invalid_argument if the sizes differ)
 /// @param[in]     k    neighbours of a fit (≥ 6)
 /// @param[in]     min_cos  a neighbour is on the point's side when n_i . n_j > min_cos
+/// @param[out]    thin  optional: on return one flag per returned point, 1 for the points that
+///                     have the other side among their k nearest (refitted or kept for too few
+///                     on their side), 0 for the others
 /// Spikes are dropped as by jet smoothing in reconstruct (spike_move_limit_mm of the refitted
 /// points' moves, point_set_steps.h).
 RefitStats refit_on_own_side(std::vector<std::pair<pipeline::Point, pipeline::Vector>>& pn,
-                             const std::vector<pipeline::Point>& raw, unsigned k, double min_cos);
+                             const std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
+                             std::vector<char>* thin = nullptr);
 
 }  // namespace scan2cad::internal

@@ -2,6 +2,8 @@
 // get their places back; a surface with one side in reach is left as it was.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 
@@ -75,7 +77,8 @@ TEST(refit_on_own_side, brings_back_the_two_faces_of_a_thin_disc) {
     return mean_half_thickness(r);
   }();
   const double smoothed_half = mean_half_thickness(s.pn), smoothed_share = share_of_normals_within_10deg(s.pn);
-  const auto st = scan2cad::internal::refit_on_own_side(s.pn, s.raw, 24, 0.5);
+  std::vector<char> thin;
+  const auto st = scan2cad::internal::refit_on_own_side(s.pn, s.raw, 24, 0.5, &thin);
   const double refit_half = mean_half_thickness(s.pn), refit_share = share_of_normals_within_10deg(s.pn);
   std::printf("half thickness: scan %.3f, smoothed %.3f, refitted %.3f mm; normals within 10 deg: %.1f %% -> %.1f %%; "
               "%zu one-sided, %zu refitted, %zu too few, %zu spikes\n",
@@ -87,6 +90,10 @@ TEST(refit_on_own_side, brings_back_the_two_faces_of_a_thin_disc) {
   EXPECT_GT(refit_share, 0.6);
   EXPECT_GT(st.refitted, st.one_sided);
   EXPECT_EQ(st.spikes, 0u);
+  // the thin-part flags (reconstruct gives those points to Poisson unthinned): one per point
+  // returned, set for the refitted and the too-few ones
+  ASSERT_EQ(thin.size(), s.pn.size());
+  EXPECT_EQ(std::size_t(std::count(thin.begin(), thin.end(), 1)), st.refitted + st.too_few);
 }
 
 // A sphere 80 mm across has one side in every neighbourhood: nothing moves, no point is dropped.
@@ -105,8 +112,10 @@ TEST(refit_on_own_side, leaves_a_surface_with_one_side_in_reach_as_it_is) {
   }
   Smoothed s = smoothed_and_oriented(pn, outward);
   const std::vector<PointWithNormal> before = s.pn;
-  const auto st = scan2cad::internal::refit_on_own_side(s.pn, s.raw, 24, 0.5);
+  std::vector<char> thin;
+  const auto st = scan2cad::internal::refit_on_own_side(s.pn, s.raw, 24, 0.5, &thin);
   EXPECT_EQ(st.one_sided, before.size());
+  EXPECT_EQ(thin, std::vector<char>(before.size(), 0));
   ASSERT_EQ(s.pn.size(), before.size());
   for (std::size_t i = 0; i < before.size(); ++i) {
     ASSERT_EQ(s.pn[i].first, before[i].first) << i;
