@@ -43,15 +43,17 @@ Measured distances_from_to(const SurfaceMesh& from, const SurfaceMesh& to, std::
   return m;
 }
 
-bool in_any(const pipeline::Point& p, const std::vector<Ball>& balls) {
-  for (const auto& b : balls)
+bool in_any(const pipeline::Point& p, const Exclusion& ex) {
+  for (const auto& b : ex.balls)
     if (CGAL::squared_distance(p, b.centre) < b.radius_mm * b.radius_mm) return true;
+  for (const auto& h : ex.half_spaces)
+    if ((p - h.point) * h.normal > 0) return true;
   return false;
 }
 
 // The largest distance among the samples outside `excluded`, and where it is; pools those
 // distances into `all`. False if every sample is excluded.
-bool worst_outside(const Measured& m, const std::vector<Ball>& excluded, double* max_mm, pipeline::Point* worst,
+bool worst_outside(const Measured& m, const Exclusion& excluded, double* max_mm, pipeline::Point* worst,
                    std::vector<double>& all) {
   bool any = false;
   for (std::size_t i = 0; i < m.samples.size(); ++i) {
@@ -67,6 +69,13 @@ bool worst_outside(const Measured& m, const std::vector<Ball>& excluded, double*
 
 std::vector<SurfaceDistance> surface_distances(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n,
                                                const std::vector<std::vector<Ball>>& exclusions) {
+  std::vector<Exclusion> ex;
+  for (const auto& balls : exclusions) ex.push_back({balls, {}});
+  return surface_distances(a, b, n, ex);
+}
+
+std::vector<SurfaceDistance> surface_distances(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n,
+                                               const std::vector<Exclusion>& exclusions) {
   if (a.number_of_faces() == 0 || b.number_of_faces() == 0)
     throw pipeline::bad_input("surface_distance", "a mesh has no faces");
   const Measured ab = distances_from_to(a, b, n), ba = distances_from_to(b, a, n);
@@ -91,7 +100,7 @@ std::vector<SurfaceDistance> surface_distances(const SurfaceMesh& a, const Surfa
 
 SurfaceDistance surface_distance(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n,
                                  const std::vector<Ball>& excluded) {
-  return surface_distances(a, b, n, {excluded}).front();
+  return surface_distances(a, b, n, std::vector<Exclusion>{{excluded, {}}}).front();
 }
 
 }  // namespace scan2cad

@@ -23,6 +23,19 @@ struct Ball {
   double radius_mm = 0;
 };
 
+/// A half-space [mm]: the points p with (p - point) · normal > 0 (e.g. below the neck cut of a
+/// headform, where the reference surface is an artificial cap, not anatomy).
+struct HalfSpace {
+  pipeline::Point point;
+  pipeline::Vector normal;
+};
+
+/// Regions left out of one measurement: samples in any ball or any half-space.
+struct Exclusion {
+  std::vector<Ball> balls;
+  std::vector<HalfSpace> half_spaces;
+};
+
 /// Samples `samples_per_mesh` points uniformly on each mesh (PMP::sample_triangle_mesh, plus
 /// every vertex) and measures each sample's distance to the other mesh with an AABB tree.
 /// The maximum over samples is the symmetric Hausdorff distance up to the sampling density.
@@ -40,5 +53,8 @@ SurfaceDistance surface_distance(const pipeline::SurfaceMesh& a, const pipeline:
 std::vector<SurfaceDistance> surface_distances(const pipeline::SurfaceMesh& a, const pipeline::SurfaceMesh& b,
                                                std::size_t samples_per_mesh,
                                                const std::vector<std::vector<Ball>>& exclusions);
+/// The same with exclusions that may also hold half-spaces.
+std::vector<SurfaceDistance> surface_distances(const pipeline::SurfaceMesh& a, const pipeline::SurfaceMesh& b,
+                                               std::size_t samples_per_mesh, const std::vector<Exclusion>& exclusions);
 
 }  // namespace scan2cad

@@ -10,6 +10,7 @@
 // HEAD_ACCEPTANCE_OUT=dir writes each head's reconstructed and repaired meshes for inspection.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstdio>
 #include <map>
@@ -26,6 +27,10 @@
 
 namespace {
 
+// How far above a head's lowest point (the neck cut) the neck cap's rim reaches: NIOSH medium's
+// lips hang 4.5 mm below the back of the neck, NIOSH large's rim is rounded over ~2 mm.
+constexpr double kNeckCutBand_mm = 8.0;
+
 struct HeadRun {
   std::string name;
   generator::GenerateRequest request;
@@ -34,6 +39,10 @@ struct HeadRun {
   /// the same measured only where the scanner saw the surface: samples within the holes' radius
   /// + 3 mm of their centres left out (a diagnostic: the requirement is on `distance`)
   scan2cad::SurfaceDistance distance_outside_holes;
+  /// the same without the neck cut: samples less than kNeckCutBand_mm above the reference's
+  /// lowest point left out (the NIOSH STLs close the neck with a flat cap whose rim has slivers,
+  /// spikes and a 63 deg edge; none of it is anatomy)
+  scan2cad::SurfaceDistance distance_above_neck_cut;
   std::vector<generator::Hole> holes;  ///< the scan's holes (where the output is a fill)
   std::string error;  ///< empty when reconstruct + repair succeeded
 };
@@ -54,7 +63,7 @@ const char* const kHeads[] = {"NIOSH_medium",    "NIOSH_large",          "genera
                               "generated_large", "generated_longnarrow", "generated_shortwide"};
 
 HeadRun make_run(const std::string& name, std::size_t points = 200000) {
-  HeadRun r{name, scan_request(points), {}, {}, {}, {}, {}};
+  HeadRun r{name, scan_request(points), {}, {}, {}, {}, {}, {}};
   const std::string niosh = "NIOSH_", generated = "generated_";
   if (name.rfind(niosh, 0) == 0) {
     r.request.mesh_path = std::string(SHARED_DATA_DIR) + "/headforms/" + name + "_20k.stl";
@@ -88,9 +97,14 @@ void run_one(HeadRun& run) {
     }
     std::vector<scan2cad::Ball> holes;
     for (const auto& h : scan.holes) holes.push_back({h.centre, h.radius_mm + 3.0});
-    const auto d = scan2cad::surface_distances(repaired, scan.clean_mesh, 200000, {{}, holes});
+    double lowest_y = 1e300;
+    for (auto v : scan.clean_mesh.vertices()) lowest_y = std::min(lowest_y, scan.clean_mesh.point(v).y());
+    const scan2cad::HalfSpace neck_cut{pipeline::Point(0, lowest_y + kNeckCutBand_mm, 0), pipeline::Vector(0, -1, 0)};
+    const auto d = scan2cad::surface_distances(repaired, scan.clean_mesh, 200000,
+                                               std::vector<scan2cad::Exclusion>{{}, {holes, {}}, {{}, {neck_cut}}});
     run.distance = d[0];
     run.distance_outside_holes = d[1];
+    run.distance_above_neck_cut = d[2];
   } catch (const std::exception& e) {
     run.error = e.what();
   }
@@ -113,6 +127,7 @@ const HeadRun& head_run(const std::string& name, std::size_t points = 200000) {
     const auto& r = it->second;
     print_distance(r.name, "", r.distance);
     print_distance(r.name, "outside the holes: ", r.distance_outside_holes);
+    print_distance(r.name, "above the neck cut: ", r.distance_above_neck_cut);
     std::printf("%-22s closed %d manifold %d self-intersecting %d %s\n", r.name.c_str(), r.report.closed,
                 r.report.manifold, r.report.self_intersecting_after, r.error.c_str());
     for (const auto& h : r.holes)
@@ -153,10 +168,16 @@ TEST_P(head_acceptance, closed_manifold_within_p95_and_1mm) {
   EXPECT_FALSE(r.report.self_intersecting_after);
   EXPECT_LE(r.distance.p95_mm, 0.3);
   const auto not_met = kHausdorffNotMet.find(r.name);
-  if (not_met == kHausdorffNotMet.end())
+  if (not_met == kHausdorffNotMet.end()) {
     EXPECT_LE(r.distance.hausdorff_mm, 1.0);
-  else
+  } else {
     std::printf("%-22s hausdorff <= 1 mm not checked: not met (%s)\n", r.name.c_str(), not_met->second);
+    // what is checked instead: the head above its neck cut, where what is left above 1 mm is
+    // flaps under 1 mm thick at the ears (these samples: NIOSH large 1.30 mm at the ear's front,
+    // 1.46 mm with 3M samples; NIOSH medium 1.02 mm). NIOSH large's ear fin was 2.23 mm here
+    // until session 14.
+    EXPECT_LE(r.distance_above_neck_cut.hausdorff_mm, 1.6);
+  }
 }
 
 // The 1 mm check on every head, the unmet ones included.

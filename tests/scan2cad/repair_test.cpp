@@ -79,7 +79,7 @@ TEST(repair, soup_without_faces_is_bad_input) {
 }
 
 // surface_distance: one vertex of a sphere pushed out by 5 mm is the Hausdorff distance; with a
-// ball around it left out, what remains is the two copies' sampling agreement (~0).
+// ball or a half-space around it left out, what remains is the two copies' sampling agreement (~0).
 TEST(surface_distance, a_bump_is_found_and_an_excluded_ball_leaves_it_out) {
   const auto sphere = test_meshes::mesh_of(test_meshes::sphere_soup(50, 60));
   auto bumped = sphere;
@@ -103,4 +103,11 @@ TEST(surface_distance, a_bump_is_found_and_an_excluded_ball_leaves_it_out) {
   EXPECT_NEAR(both[1].mean_mm, outside.mean_mm, 1e-9);
   EXPECT_NE(both[0].hausdorff_mm, both[1].hausdorff_mm);
   EXPECT_THROW(scan2cad::surface_distance(bumped, sphere, 1000, {{CGAL::ORIGIN, 100.0}}), pipeline::Error);
+  // a half-space above z = 40 leaves the bump out too; one below it (z < -40) does not
+  const scan2cad::HalfSpace above{pipeline::Point(0, 0, 40), pipeline::Vector(0, 0, 1)};
+  const scan2cad::HalfSpace below{pipeline::Point(0, 0, -40), pipeline::Vector(0, 0, -1)};
+  const auto cut = scan2cad::surface_distances(bumped, sphere, 20000,
+                                               std::vector<scan2cad::Exclusion>{{{}, {above}}, {{}, {below}}});
+  EXPECT_LT(cut[0].hausdorff_mm, 1e-6);
+  EXPECT_NEAR(cut[1].hausdorff_mm, 5.0, 0.05);
 }
