@@ -68,14 +68,15 @@ struct ReconstructOptions {
   double poisson_cell_mm = 1.0;
   /// Poisson: the points of thin parts (those with the other side among their k nearest, found
   /// by the own-side refit) all go to Poisson, only the others are thinned to poisson_cell_mm.
-  /// Default on: NIOSH large's ear fin (~1.5 mm across) came out 2.5 mm low after the projection
-  /// with the fin thinned too, 0.5 mm with it kept (README.md, session 14). No effect without the refit
+  /// Default on: the top of NIOSH large's ear fin (~1.5 mm across) is 1.08 mm from the projected
+  /// surface with the fin thinned too, 0.57 mm with it kept (README.md, session 14). No effect
+  /// without the refit
   bool poisson_keep_thin_parts = true;
   /// Poisson contouring accuracy: largest distance of a facet to the implicit surface [mm];
   /// default 0.05, range > 0
   double poisson_distance_mm = 0.05;
   /// Poisson: move each output vertex onto a local quadric of the denoised points whose normals
-  /// agree with it (reconstruct.cpp, project_onto_points); 0 = off, else the largest move [mm]
+  /// agree with it (internal/project_onto_points.h); 0 = off, else the largest move [mm]
   /// (a larger one is an extrapolation and the vertex stays). Default 3 mm
   double projection_max_move_mm = 3.0;
   /// Poisson with projection: rounds of internal::untangle_crossings after it (faces the projection
