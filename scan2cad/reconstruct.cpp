@@ -625,7 +625,6 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       thinned.erase(CGAL::grid_simplify_point_set(thinned, opt.poisson_cell_mm, CGAL::parameters::point_map(PointMap())),
                     thinned.end());
       thinned.insert(thinned.end(), thin_points.begin(), thin_points.end());
-      st.poisson_thin_points_kept = thin_points.size();
       pipeline::log("reconstruct", "  " + std::to_string(thinned.size()) + " points for Poisson, of them " +
                                        std::to_string(thin_points.size()) + " of thin parts, not thinned");
       poisson_spacing_mm = poisson_spacing(thinned);
@@ -671,8 +670,6 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
         clock.start("untangling the faces the projection made cross");
         const internal::UntangleStats us = internal::untangle_crossings(
             mesh, sign, pn, tree, k, st.spacing_mm, opt.projection_max_move_mm, opt.untangle_rounds);
-        st.untangle_faces_cut = us.faces_cut;
-        st.crossing_faces_left = us.crossing_left;
         std::snprintf(line, sizeof line,
                       "  %d rounds: %zu faces cut, %zu gaps filled, %zu patch vertices projected, %zu crossing faces left",
                       us.rounds, us.faces_cut, us.gaps_filled, us.vertices_projected, us.crossing_left);

@@ -126,10 +126,6 @@ struct ReconstructStats {
   /// Poisson faces cut out where the scan has no points (ReconstructOptions::hole_cut_spacings)
   std::size_t faces_cut = 0;
   double projection_mean_mm = 0, projection_max_mm = 0;
-  /// Poisson: points of thin parts given to Poisson unthinned (ReconstructOptions::poisson_keep_thin_parts)
-  std::size_t poisson_thin_points_kept = 0;
-  /// faces the untangling cut out after the projection, and faces still crossing (repair cuts them)
-  std::size_t untangle_faces_cut = 0, crossing_faces_left = 0;
   /// points left after step 1 (density cap and grid)
   std::size_t points_after_thinning = 0;
   /// wall and process-CPU seconds of each step, in order (the CPU time counts all threads of
