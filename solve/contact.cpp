@@ -510,7 +510,10 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
       }
       normal_sum[m] += w * c.fn;
     }
-    max_penetration_ = std::max(max_penetration_, c.penetration);
+    if (c.penetration > max_penetration_) {
+      max_penetration_ = c.penetration;
+      deepest_point_ = point_x(j);
+    }
   }
   for (std::size_t i = 0; i < nm; ++i) {
     const std::size_t node = std::size_t(master_nodes_[i]);

@@ -57,6 +57,9 @@ class ContactPair {
   std::array<double, 3> resultant_force() const { return resultant_; }
   /// Deepest penetration of a slave node after the last add_forces [mm] (0 if none).
   double max_penetration() const { return max_penetration_; }
+  /// Where that deepest slave point was, in the positions given to the last add_forces [mm]
+  /// (a run that stops on penetration names the place).
+  std::array<double, 3> deepest_point() const { return deepest_point_; }
   const ContactSpec& spec() const { return spec_; }
   /// Number of contact points (slave nodes, or facet sub-triangles with spec.slave_tris).
   std::size_t n_points() const { return points_.size(); }
@@ -78,6 +81,7 @@ class ContactPair {
   std::vector<double> pressure_, shear_;
   std::array<double, 3> resultant_{0, 0, 0};
   double max_penetration_ = 0;
+  std::array<double, 3> deepest_point_{0, 0, 0};
   // Implementation state (contact.cpp). Master topology in local master-node indices:
   std::vector<int> master_nodes_;                ///< distinct master node ids
   std::vector<std::array<int, 3>> tri_local_;    ///< master_tris as indices into master_nodes_

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 
@@ -163,9 +164,13 @@ void Solver::step() {
   }
   std::fill(s.fcon.begin(), s.fcon.end(), 0.0);
   double pen = 0;
+  const ContactPair* deepest = nullptr;
   for (auto& c : s.pairs) {
     c.add_forces(s.x.data(), s.v.data(), s.mass.data(), dt, s.fcon.data());
-    pen = std::max(pen, c.max_penetration());
+    if (c.max_penetration() > pen) {
+      pen = c.max_penetration();
+      deepest = &c;
+    }
   }
   const double e_int_n = want_energy_ ? s.internal_energy() : 0.0;
   // 3. Velocities and positions (constraints inside), energy bookkeeping.
@@ -214,9 +219,15 @@ void Solver::step() {
   // 4. Health and the periodic update of the stable step.
   if (!finite) health_ = "non-finite position or velocity (NaN/Inf)";
   else if (inverted > 0) health_ = std::to_string(inverted) + " element(s) inverted (J <= 0)";
-  else if (pen > m.control.penetration_tolerance)
+  else if (pen > m.control.penetration_tolerance) {
+    // Name the pair and the place: on a full model a depth alone does not say what went through what.
+    const auto q = deepest->deepest_point();
+    char xyz[80];
+    std::snprintf(xyz, sizeof xyz, "%.2f %.2f %.2f", q[0], q[1], q[2]);
     health_ = "contact penetration " + std::to_string(pen) + " mm deeper than the tolerance " +
-              std::to_string(m.control.penetration_tolerance) + " mm";
+              std::to_string(m.control.penetration_tolerance) + " mm (pair '" + deepest->spec().name +
+              "', slave point at " + xyz + " mm)";
+  }
   if (m.control.dt_target <= 0 && s.step % m.control.dt_update_interval == 0 && health_.empty()) {
     const double d = s.compute_stable_dt();  // +inf when only rigid parts: keep the step
     if (std::isfinite(d)) {

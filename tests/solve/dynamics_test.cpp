@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "pipeline/error.h"
@@ -373,6 +374,17 @@ TEST(run, guard_trips_on_penetration) {
     FAIL() << "no error";
   } catch (const pipeline::Error& e) {
     EXPECT_NE(std::string(e.what()).find("penetration"), std::string::npos) << e.what();
+    // the message names the pair and where its deepest point is: on the block's bottom face
+    // (x, y in [0, 2], z = 0 less the ~2 µm penetration; printed to 0.01 mm)
+    const std::string what = e.what();
+    EXPECT_NE(what.find("pair '" + m.contacts.at(0).name + "'"), std::string::npos) << what;
+    const auto at = what.find("slave point at ");
+    ASSERT_NE(at, std::string::npos) << what;
+    double x = -1, y = -1, z = -1;
+    ASSERT_EQ(std::sscanf(what.c_str() + at + 15, "%lf %lf %lf", &x, &y, &z), 3) << what;
+    EXPECT_GE(x, 0.0); EXPECT_LE(x, 2.0);
+    EXPECT_GE(y, 0.0); EXPECT_LE(y, 2.0);
+    EXPECT_NEAR(z, 0.0, 0.006) << what;
   }
   EXPECT_TRUE(fs::exists(o.out_dir + "/diverged_state.bin"));
   EXPECT_FALSE(fs::exists(o.out_dir + "/results.msh"));
