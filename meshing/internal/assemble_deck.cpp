@@ -1,10 +1,44 @@
 // meshing::make_deck: the two solver decks of the paper's simulation (solve/README.md format).
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "meshing/assemble.h"
+#include "meshing/internal/assemble_geometry.h"
 #include "pipeline/error.h"
 
 namespace meshing {
+
+namespace {
+
+// The path of a strap end from `from` to its attachment point `to`, kept `clearance_mm` off the
+// skin: the chord between them cuts through the head (a strap end beside the temple pulled to a
+// rim point in front of the cheek passes under the skin), and a prescribed node cannot be pushed
+// out by contact, so stage I stopped on penetration after 14 ms. Waypoints every ~2 mm along the
+// chord are lifted to the clearance along the closest skin face's normal; the attachment itself
+// (on the respirator, 3 mm off the skin) stays as it is. Times follow the arc length, so the end
+// moves at constant speed.
+struct EndPath {
+  std::vector<Eigen::Vector3d> points;  ///< from `from` to `to`
+  std::vector<double> arc_mm;           ///< cumulative length at each point
+};
+
+EndPath end_path(const internal::TriangleTree& skin, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                 double clearance_mm) {
+  const int n = std::max(2, int(std::ceil((to - from).norm() / 2.0)));
+  EndPath p;
+  for (int i = 0; i <= n; ++i) {
+    Eigen::Vector3d q = from + (to - from) * (double(i) / n), closest, normal;
+    if (i > 0 && i < n && skin.signed_distance(q, &closest, &normal) < clearance_mm) q = closest + clearance_mm * normal;
+    p.arc_mm.push_back(p.points.empty() ? 0.0 : p.arc_mm.back() + (q - p.points.back()).norm());
+    p.points.push_back(q);
+  }
+  return p;
+}
+
+}  // namespace
 
 nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, int stage, double strap_t,
                          const std::string& stage1_state) {
@@ -48,10 +82,11 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
     if (m.find(s)) contact.push_back({{"name", std::string(s) + "_on_head"}, {"slave", s}, {"master", "head_skin"}});
   const double alpha = mat.contains("damping") ? mat["damping"].value("stage1_alpha_per_ms", 0.5) : 0.5;
   if (stage == 1) {
-    // Head and respirator held; each strap end moves with constant velocity to its attachment
-    // point in 0–100 ms and stays there to 200 ms (paper Fig. 6).
+    // Head and respirator held; each strap end moves with constant speed to its attachment
+    // point in 0–100 ms, around the head (end_path), and stays there to 200 ms (paper Fig. 6).
     for (const auto& g : head_parts) fixed.push_back({{"group", g}, {"dofs", "xyz"}});
     for (const auto& g : resp_parts) fixed.push_back({{"group", g}, {"dofs", "xyz"}});
+    const internal::TriangleTree skin(m.nodes, head_surface(m));
     for (const char* s : {"top", "bottom"})
       for (const char* side : {"left", "right"}) {
         const auto* end = m.find(std::string("strap_") + s + "_end_" + side);
@@ -59,10 +94,16 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
         if (!end || !att) continue;
         Eigen::Vector3d c = Eigen::Vector3d::Zero();
         for (int v : end->conn) c += m.nodes[v] / double(end->conn.size());
-        const Eigen::Vector3d delta = m.nodes[att->conn[0]] - c;
-        for (int k = 0; k < 3; ++k)
+        const EndPath path = end_path(skin, c, m.nodes[att->conn[0]], 1.0 + 0.5 * strap_t);
+        for (int k = 0; k < 3; ++k) {
+          json curve = json::array();
+          for (std::size_t i = 0; i < path.points.size(); ++i)
+            curve.push_back({i + 1 == path.points.size() ? 100.0 : 100.0 * path.arc_mm[i] / path.arc_mm.back(),
+                            path.points[i][k] - c[k]});
+          curve.push_back({200.0, path.points.back()[k] - c[k]});
           presc.push_back({{"group", end->name}, {"type", "displacement"}, {"dof", std::string(1, "xyz"[k])},
-                           {"curve", {{0.0, 0.0}, {100.0, delta[k]}, {200.0, delta[k]}}}});
+                           {"curve", curve}});
+        }
       }
     d["prescribed"] = presc;
     d["control"] = {{"end_time", 200.0}, {"damping_alpha", alpha}, {"output_interval", 20.0}};

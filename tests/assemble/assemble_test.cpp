@@ -7,6 +7,7 @@
 #include "../layers/layers_fixtures.h"
 #include "layering/layers.h"
 #include "meshing/assemble.h"
+#include "meshing/internal/assemble_geometry.h"
 #include "meshing/straps.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
@@ -105,6 +106,49 @@ TEST(make_straps, top_strap_stays_below_the_crown_when_the_ears_are_high) {
   EXPECT_NEAR(rep.top_length, 300.0, 6.0);
 }
 
+namespace {
+// Stage I's strap ends: each end's three displacement curves (x, y, z on the same times) take its
+// nodes from where they are to the attachment node by 100 ms and hold them there, around the head,
+// never through it. Checked at every knot and between knots: the curves are piecewise linear.
+void expect_end_paths_around_the_head(const layering::FeModel& model, const nlohmann::json& deck,
+                                      double strap_thickness_mm) {
+  const meshing::internal::TriangleTree skin(model.nodes, meshing::head_surface(model));
+  const double clearance = 1.0 + 0.5 * strap_thickness_mm;  // the straps' own gap to the skin
+  const auto& presc = deck["prescribed"];
+  for (std::size_t g = 0; g + 2 < presc.size(); g += 3) {
+    const std::string end = presc[g]["group"], side = end.substr(end.rfind('_') + 1);
+    const std::string which = end.substr(6, end.find("_end") - 6);  // strap_<which>_end_<side>
+    const auto* e = model.find(end);
+    const auto* a = model.find("attach_" + which + "_" + side);
+    ASSERT_TRUE(e && a) << end;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int v : e->conn) c += model.nodes[v] / double(e->conn.size());
+    const auto &cx = presc[g]["curve"], &cy = presc[g + 1]["curve"], &cz = presc[g + 2]["curve"];
+    ASSERT_EQ(cx.size(), cy.size());
+    ASSERT_EQ(cx.size(), cz.size());
+    auto at = [&](std::size_t i) { return Eigen::Vector3d(cx[i][1], cy[i][1], cz[i][1]); };
+    EXPECT_EQ(double(cx.front()[0]), 0.0);
+    EXPECT_LT(at(0).norm(), 1e-12) << end;
+    EXPECT_EQ(double(cx[cx.size() - 2][0]), 100.0) << end;
+    EXPECT_EQ(double(cx.back()[0]), 200.0) << end;
+    EXPECT_LT((c + at(cx.size() - 1) - model.nodes[a->conn[0]]).norm(), 1e-9) << end;
+    // Between lifted knots ~2 mm apart the chord sags L^2 / (8 R) under the skin: 0.05 mm for a
+    // skin radius of 10 mm; 0.1 mm of the clearance is allowed for it.
+    double path = 0, lowest = 1e300;
+    for (std::size_t i = 1; i + 1 < cx.size(); ++i) {
+      EXPECT_GT(double(cx[i][0]), double(cx[i - 1][0])) << end;
+      path += (at(i) - at(i - 1)).norm();
+      for (double f : {0.25, 0.5, 0.75, 1.0})
+        lowest = std::min(lowest, skin.signed_distance(c + at(i - 1) + f * (at(i) - at(i - 1))));
+    }
+    const double chord = (at(cx.size() - 1)).norm();
+    std::printf("%s: path %.1f mm (chord %.1f), lowest %.2f mm off the skin\n", end.c_str(), path, chord, lowest);
+    EXPECT_GE(lowest, clearance - 0.1) << end;
+    EXPECT_LT(path, 1.3 * chord) << end;  // around the side of the head, not round the back
+  }
+}
+}  // namespace
+
 TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   auto& s = scene();
   const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
@@ -133,6 +177,7 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   }
   EXPECT_EQ(d1["prescribed"].size(), 12u);  // 4 strap ends × 3 directions
   EXPECT_EQ(d2["ties"].size(), 4u);
+  expect_end_paths_around_the_head(model, d1, 1.0);
   // Opens in gmsh (our reader is gmsh's) and in meshio.
   const auto back = layering::read_fe_model(path);
   EXPECT_EQ(back.nodes.size(), model.nodes.size());
