@@ -46,14 +46,16 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   namespace fs = std::filesystem;
   if (opt.out_dir.empty()) throw pipeline::Error(pipeline::ErrorKind::usage, "no output directory given");
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
-  Solver s(model);
+  // 1. Initial state: command line restart wins over the deck's initial_state. Read before the
+  // solver is set up, whose ties are matched where the run starts.
+  const std::string start_file = !opt.restart.empty() ? opt.restart : model.initial_state.file;
+  const SolverState start = start_file.empty() ? SolverState{} : load_state(start_file);
+  Solver s(model, start_file.empty() ? nullptr : &start.x);
   const Model& m = s.model();
-  // 1. Initial state: command line restart wins over the deck's initial_state.
-  if (!opt.restart.empty()) {
-    s.set_state(load_state(opt.restart), false, false);
-  } else if (!m.initial_state.file.empty()) {
-    s.set_state(load_state(m.initial_state.file), m.initial_state.reset_time, m.initial_state.reset_velocity);
-  }
+  if (!opt.restart.empty())
+    s.set_state(start, false, false);
+  else if (!start_file.empty())
+    s.set_state(start, m.initial_state.reset_time, m.initial_state.reset_velocity);
   std::error_code ec;
   fs::create_directories(opt.out_dir, ec);
   if (!fs::is_directory(opt.out_dir)) throw pipeline::io_failed(opt.out_dir, "cannot create the output directory");

@@ -51,7 +51,9 @@ class Solver {
  public:
   /// Sets up elements, lumped masses (with mass scaling when control.dt_target > 0), constraints,
   /// contact pairs and the stable step. Applies initial velocities. @throws pipeline::Error(bad_input).
-  explicit Solver(Model model);
+  /// @param start_x  #nodes×3 positions the run will start from (the state set_state will be given),
+  ///                 where the ties are matched; nullptr: the model's reference geometry
+  explicit Solver(Model model, const std::vector<double>* start_x = nullptr);
   ~Solver();
   Solver(const Solver&) = delete;
   Solver& operator=(const Solver&) = delete;
@@ -93,7 +95,8 @@ class Solver {
 
   SolverState state() const;
   /// Continues from a saved state (same mesh: node count checked, throws bad_input otherwise).
-  /// reset_time: time and step counter start at 0; reset_velocity: start at rest.
+  /// reset_time: time and step counter start at 0; reset_velocity: start at rest. Ties are matched
+  /// again at the state's positions (a later stage ties what an earlier one brought together).
   void set_state(const SolverState& s, bool reset_time = false, bool reset_velocity = false);
 
  private:

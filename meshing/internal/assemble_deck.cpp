@@ -108,7 +108,8 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
     d["prescribed"] = presc;
     d["control"] = {{"end_time", 200.0}, {"damping_alpha", alpha}, {"output_interval", 20.0}};
     d["output"] = {{"history_groups", json::array()}};
-    for (const auto& p : presc) d["output"]["history_groups"].push_back(p["group"]);
+    for (std::size_t i = 0; i < presc.size(); i += 3)  // one history per strap end, not per direction
+      d["output"]["history_groups"].push_back(presc[i]["group"]);
   } else {
     // Respirator released, straps tied to it at the attachment points; bone and back of head fixed.
     for (const char* s : {"top", "bottom"})

@@ -39,7 +39,8 @@ double bc_velocity(const Model& m, int k, int node, int d, double t, double dt, 
 
 }  // namespace
 
-Constraints build_constraints(const Model& m, const std::vector<char>& rigid_node, const std::vector<double>& mass) {
+Constraints build_constraints(const Model& m, const std::vector<char>& rigid_node, const std::vector<double>& mass,
+                              const std::vector<double>& x) {
   const std::size_t n = m.n_nodes();
   UnionFind uf(n);
   for (const auto& p : m.parts)
@@ -53,7 +54,7 @@ Constraints build_constraints(const Model& m, const std::vector<char>& rigid_nod
       double bd = 1e300;
       for (int j : b) {  // tie sets are small (strap ends): a direct search is enough
         double d2 = 0;
-        for (int k = 0; k < 3; ++k) d2 += (m.X[3 * i + k] - m.X[3 * j + k]) * (m.X[3 * i + k] - m.X[3 * j + k]);
+        for (int k = 0; k < 3; ++k) d2 += (x[3 * i + k] - x[3 * j + k]) * (x[3 * i + k] - x[3 * j + k]);
         if (d2 < bd && j != i) { bd = d2; best = j; }
       }
       if (best < 0 || std::sqrt(bd) > t.tolerance)

@@ -35,8 +35,12 @@ struct Constraints {
 };
 
 /// @param rigid_node #nodes flags (node of a rigid part)
+/// @param x          #nodes×3 positions the ties are matched at: where the run starts (the model's
+///                   reference geometry, or an initial state's deformed one: Stage II ties strap ends
+///                   that Stage I moved onto the respirator)
 /// @throws pipeline::Error(bad_input) if a tie finds no partner within its tolerance.
-Constraints build_constraints(const Model& m, const std::vector<char>& rigid_node, const std::vector<double>& mass);
+Constraints build_constraints(const Model& m, const std::vector<char>& rigid_node, const std::vector<double>& mass,
+                              const std::vector<double>& x);
 
 /// Makes initial velocities consistent: tied nodes get their mass-weighted mean velocity, rigid
 /// bodies the mean translation (no initial spin).

@@ -176,6 +176,8 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
     for (const auto& c : (*d)["contact"]) EXPECT_NE(model.find(c["slave"]), nullptr) << c;
   }
   EXPECT_EQ(d1["prescribed"].size(), 12u);  // 4 strap ends × 3 directions
+  EXPECT_EQ(d1["output"]["history_groups"].size(), 4u) << d1["output"];  // a force history per strap end
+  EXPECT_EQ(d2["output"]["history_groups"].size(), 4u) << d2["output"];
   EXPECT_EQ(d2["ties"].size(), 4u);
   expect_end_paths_around_the_head(model, d1, 1.0);
   // Opens in gmsh (our reader is gmsh's) and in meshio.

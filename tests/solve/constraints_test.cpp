@@ -1,9 +1,15 @@
 // Kinematic constraints: ties, rigid bodies, initial state from a deck.
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <unistd.h>
 
+#include <cmath>
+#include <filesystem>
+
+#include "pipeline/error.h"
 #include "solve/make_block.h"
+#include "solve/run.h"
+#include "solve/save_state.h"
 #include "solve/solver.h"
 
 namespace {
@@ -50,6 +56,64 @@ TEST(ties, tied_blocks_behave_as_one_block) {
   ASSERT_GT(std::fabs(fc), 1e-4);
   EXPECT_NEAR(fa, fc, 1e-6 * std::fabs(fc));
   EXPECT_NEAR(a.reaction("u_zmax")[2], -fa, 1e-6 * std::fabs(fc));
+}
+
+// Ties are matched where the run starts (Stage II ties the strap ends that Stage I moved onto the
+// respirator): two columns 1 mm apart in the reference geometry, a starting state with the upper
+// one moved down onto the lower one. Without the state the tie finds no partner (bad_input); with
+// it, the tie holds the pair together while the top is pulled: the tied nodes coincide (shared
+// velocity: to round-off, 1e-12 mm) and the fixed base carries the whole pull (static state under
+// damping, residual dynamics ~ e^-15: 1e-4 relative). The same through solve::run and a state file.
+TEST(ties, matched_at_the_positions_the_run_starts_from) {
+  solve::Model m = column_part(0, "lower");
+  solve::append_model(m, column_part(3, "upper"), "u_");  // lower top z = 2, upper bottom z = 3
+  m.ties.push_back({"glue", "u_zmin", "zmax", 1e-6});
+  for (int d = 0; d < 3; ++d) m.bcs.push_back({"zmin", d, solve::BcKind::fixed, {}});
+  const double pull = 0.01;  // [N], well inside the linear range of the 2 x 2 mm skin column
+  m.loads.push_back({"u_zmax", 2, solve::Curve{{0, 2, 100}, {0, pull, pull}}});
+  m.control.damping_alpha = 3.0;
+  m.control.end_time = 10;
+  EXPECT_THROW(solve::Solver{m}, pipeline::Error);
+
+  solve::SolverState start;
+  start.X = m.X;
+  start.x = m.X;
+  start.v.assign(m.X.size(), 0.0);
+  const auto& upper = m.group("u_all");
+  ASSERT_FALSE(upper.empty());
+  for (int id : upper) start.x[3 * std::size_t(id) + 2] -= 1.0;
+  solve::Solver s(m, &start.x);
+  s.set_state(start, true, true);
+  s.run_until(10);
+  ASSERT_TRUE(s.health().empty()) << s.health();
+  const auto& a = m.group("u_zmin");
+  const auto& b = m.group("zmax");
+  ASSERT_EQ(a.size(), b.size());
+  for (int i : a) {
+    double nearest = 1e300;
+    for (int j : b) {
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += std::pow(s.x()[3 * std::size_t(i) + k] - s.x()[3 * std::size_t(j) + k], 2);
+      nearest = std::min(nearest, std::sqrt(d2));
+    }
+    EXPECT_LT(nearest, 1e-12) << "node " << i;
+  }
+  EXPECT_GT(s.x()[3 * std::size_t(a[0]) + 2] - start.x[3 * std::size_t(a[0]) + 2], 0.0);  // it was pulled up
+  EXPECT_NEAR(s.reaction("zmin")[2], -pull, 1e-4 * pull);
+
+  // The stage program's path: the state in a file named by the deck's initial_state.
+  const auto dir = std::filesystem::temp_directory_path() / ("solve_test_tie_start_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  solve::save_state((dir / "start.bin").string(), start);
+  m.initial_state.file = (dir / "start.bin").string();
+  m.initial_state.reset_time = true;
+  solve::RunOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  o.write_results = false;
+  EXPECT_NO_THROW(solve::run(m, o));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "state.bin"));
+  std::filesystem::remove_all(dir);
 }
 
 // A free rigid body spinning about an axis through its mass centre keeps its shape exactly (its
