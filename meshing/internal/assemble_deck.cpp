@@ -32,8 +32,14 @@ EndPath end_path(const internal::TriangleTree& skin, const Eigen::Vector3d& from
   for (int i = 0; i <= n; ++i) {
     Eigen::Vector3d q = from + (to - from) * (double(i) / n), closest, normal;
     if (i > 0 && i < n && skin.signed_distance(q, &closest, &normal) < clearance_mm) q = closest + clearance_mm * normal;
-    p.arc_mm.push_back(p.points.empty() ? 0.0 : p.arc_mm.back() + (q - p.points.back()).norm());
+    const double step = p.points.empty() ? 1.0 : (q - p.points.back()).norm();
+    if (step < 1e-6 && i < n) continue;  // two chord points lifted onto one: the curve's times must increase
+    p.arc_mm.push_back(p.points.empty() ? 0.0 : p.arc_mm.back() + step);
     p.points.push_back(q);
+  }
+  if (p.arc_mm.back() <= 0) {  // the end is already at its attachment: it stays where it is
+    p.points = {from, to};
+    p.arc_mm = {0.0, 1.0};
   }
   return p;
 }
