@@ -37,14 +37,6 @@ struct Solver::Impl {
       d = std::min(d, internal::stable_dt_for_elems(blocks[k], x.data(), mass_factor[k]));
     return d;
   }
-  // Ties, rigid bodies and boundary conditions, with the ties matched at positions `at`.
-  void build_constraints(const std::vector<double>& at) {
-    std::vector<char> rigid_node(n, 0);
-    for (const auto& b : blocks)
-      if (b.rigid)
-        for (int id : b.conn) rigid_node[id] = 1;
-    con = internal::build_constraints(m, rigid_node, mass, at);
-  }
   double internal_energy() const {
     double w = 0;
     for (const auto& b : blocks)
@@ -114,8 +106,15 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
   s.fext.assign(3 * s.n, 0.0);
   s.fcon.assign(3 * s.n, 0.0);
   s.reac.assign(3 * s.n, 0.0);
-  // 3. Constraints: ties, rigid bodies, boundary conditions.
-  s.build_constraints(start_x && start_x->size() == s.x.size() ? *start_x : s.x);
+  // 3. Constraints: ties (matched where the run starts), rigid bodies, boundary conditions.
+  if (start_x && start_x->size() != s.x.size())
+    throw pipeline::bad_input(m.name, "restart state has " + std::to_string(start_x->size() / 3) +
+                                          " nodes, the model has " + std::to_string(s.n));
+  std::vector<char> rigid_node(s.n, 0);
+  for (const auto& b : s.blocks)
+    if (b.rigid)
+      for (int id : b.conn) rigid_node[id] = 1;
+  s.con = internal::build_constraints(m, rigid_node, s.mass, start_x ? *start_x : s.x);
   // 4. Initial velocities.
   for (const auto& iv : m.initial_velocities)
     for (int id : m.group(iv.group))
@@ -347,11 +346,8 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
                                               std::to_string(k / 3) + " differs)");
   s.x = st.x;
   s.v = st.v;
-  if (!s.m.ties.empty()) {
-    // Ties are matched where the run starts: a later stage ties what the earlier one moved together.
-    s.build_constraints(s.x);
-    internal::init_constraint_velocities(s.con, s.x, s.mass, s.v);
-  }
+  // Tied nodes share one velocity: a later stage may tie nodes the earlier one moved separately.
+  if (!s.m.ties.empty()) internal::init_constraint_velocities(s.con, s.x, s.mass, s.v);
   internal::set_rigid_velocities(s.con, s.x, st.rigid);
   // Contact history (friction stick forces, sides of two-sided masters, search state): carried
   // over when the state was written with the same contact pairs (a restart, or a later stage with

@@ -52,7 +52,8 @@ class Solver {
   /// Sets up elements, lumped masses (with mass scaling when control.dt_target > 0), constraints,
   /// contact pairs and the stable step. Applies initial velocities. @throws pipeline::Error(bad_input).
   /// @param start_x  #nodes×3 positions the run will start from (the state set_state will be given),
-  ///                 where the ties are matched; nullptr: the model's reference geometry
+  ///                 where the ties are matched; nullptr: the model's reference geometry.
+  ///                 @throws pipeline::Error(bad_input) if its node count is not the model's.
   explicit Solver(Model model, const std::vector<double>* start_x = nullptr);
   ~Solver();
   Solver(const Solver&) = delete;
@@ -95,8 +96,9 @@ class Solver {
 
   SolverState state() const;
   /// Continues from a saved state (same mesh: node count checked, throws bad_input otherwise).
-  /// reset_time: time and step counter start at 0; reset_velocity: start at rest. Ties are matched
-  /// again at the state's positions (a later stage ties what an earlier one brought together).
+  /// reset_time: time and step counter start at 0; reset_velocity: start at rest. Ties keep the
+  /// partners matched at construction (give the state's positions as start_x there); tied nodes
+  /// get their mass-weighted mean velocity.
   void set_state(const SolverState& s, bool reset_time = false, bool reset_velocity = false);
 
  private:
