@@ -688,8 +688,11 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       for (const auto& p : pn) ss.insert(p.first);
       ss.increase_scale(4, CGAL::Scale_space_reconstruction_3::Weighted_PCA_smoother<pipeline::Kernel>(k));
       ss.reconstruct_surface(CGAL::Scale_space_reconstruction_3::Advancing_front_mesher<pipeline::Kernel>(10 * st.spacing_mm));
-      std::size_t i = 0;
-      for (auto it = ss.points_begin(); it != ss.points_end(); ++it) pts[i++] = *it;
+      // The connectivity found at the coarse scale goes back onto the points as they were before
+      // the scale-space smoothing (CGAL keeps their order): the smoothed points themselves lie
+      // inside wherever the surface bends (4 weighted-PCA steps pulled a 50 mm sphere in by
+      // 0.27 mm on average, the heads' p95 to 0.36-0.57 mm; reconstruct_test).
+      for (std::size_t i = 0; i < pn.size(); ++i) pts[i] = pn[i].first;
       for (auto it = ss.facets_begin(); it != ss.facets_end(); ++it) tris.push_back({(*it)[0], (*it)[1], (*it)[2]});
     }
     if (tris.empty()) throw pipeline::algorithm_failed("point cloud", "reconstruction produced no triangles");

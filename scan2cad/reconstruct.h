@@ -11,7 +11,8 @@
 ///                      closed, smooth, fills scan holes; the default for heads;
 ///   - advancing_front  interpolating advancing front on the smoothed points: keeps open
 ///                      boundaries; the default for respirators;
-///   - scale_space      CGAL scale-space (weighted-PCA smoothing + advancing front).
+///   - scale_space      CGAL scale-space: 4 weighted-PCA smoothings, an advancing front on
+///                      the smoothed points, its triangles put back on the unsmoothed ones.
 /// (6) Poisson only: the faces it made where the scan has no points are cut out (repair fills
 /// those holes with fairing), then every output vertex is moved onto a local quadric of its
 /// nearest denoised points whose normals agree with it (Poisson rounds ear rims and the nose by

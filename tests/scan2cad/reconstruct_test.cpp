@@ -70,6 +70,37 @@ TEST(reconstruct, advancing_front_interpolates_a_clean_sphere) {
   EXPECT_LT(test_meshes::max_radial_error(m, 50), 0.1);
 }
 
+// Scale space (--method scale_space, not the default for any kind: see scan2cad/README.md,
+// "Choice of reconstruction") smooths the denoised points 4 more times with weighted PCA over
+// their k nearest and meshes those with an advancing front; the triangles then go back onto the
+// points as they were before that smoothing. On a noisy sphere (σ = 0.2 mm) it must give a mesh
+// of about two faces per point, facing outward, with every vertex within 3σ of the sphere and no
+// shrinkage: mean radial error under 0.05 mm (measured -0.006; the smoothed points themselves,
+// which reconstruct meshed until 2026-12-03, lie 0.27 mm inside).
+TEST(reconstruct, scale_space_meshes_a_noisy_sphere_outward_within_the_noise) {
+  const double r = 50;
+  const auto cloud = noisy_sphere(r, 20000, 0.2, 0.0);
+  scan2cad::ReconstructOptions opt;
+  opt.method = scan2cad::ReconstructMethod::scale_space;
+  scan2cad::ReconstructStats st;
+  const auto m = scan2cad::reconstruct(cloud, scan2cad::ScanKind::head, opt, &st);
+  double mean = 0, outward = 0;
+  for (auto v : m.vertices()) mean += std::sqrt((m.point(v) - CGAL::ORIGIN).squared_length()) - r;
+  mean /= double(m.number_of_vertices());
+  for (auto f : m.faces()) {
+    std::vector<pipeline::Point> p;
+    for (auto v : CGAL::vertices_around_face(m.halfedge(f), m)) p.push_back(m.point(v));
+    outward += CGAL::determinant(p[0] - CGAL::ORIGIN, p[1] - CGAL::ORIGIN, p[2] - CGAL::ORIGIN) > 0;
+  }
+  std::printf("scale space: %zu faces from %zu points, radial error mean %.4f max %.4f mm, %.2f %% outward\n",
+              std::size_t(m.number_of_faces()), st.points_used, mean, test_meshes::max_radial_error(m, r),
+              100 * outward / double(m.number_of_faces()));
+  EXPECT_GT(m.number_of_faces(), 3 * st.points_used / 2);
+  EXPECT_LT(std::abs(mean), 0.05);
+  EXPECT_LT(test_meshes::max_radial_error(m, r), 0.6);
+  EXPECT_GT(outward, 0.99 * double(m.number_of_faces()));
+}
+
 // Poisson rounds what bends within a few point spacings; the projection of its vertices onto
 // the denoised points (ReconstructOptions::projection_max_move_mm) must bring them back. A
 // 12 mm sphere scanned at 0.8 mm spacing bends like an ear rim or the nose wings.
