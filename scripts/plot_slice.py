@@ -60,8 +60,12 @@ def main():
         except Exception as e:  # one line naming the file, as every stage does
             sys.exit(f"plot_slice: {path}: cannot read a triangle mesh ({e})")
         c = colours[i % len(colours)]
-        for s in slice_segments(m.points.astype(float), tri, axis, a.at):
+        segments = slice_segments(m.points.astype(float), tri, axis, a.at)
+        for s in segments:
             plt.plot(s[:, h], s[:, v], c + "-", lw=1.8 if i == 0 else 1.0)
+        inside = [s for s in segments if all(a.window[0] <= q[h] <= a.window[1] and a.window[2] <= q[v] <= a.window[3]
+                                             for q in s)]
+        print(f"plot_slice: {path}: {len(segments)} segments, {len(inside)} inside the window")
         plt.plot([], [], c + "-", label=path)
     if a.points:
         try:
@@ -69,6 +73,7 @@ def main():
         except Exception as e:
             sys.exit(f"plot_slice: {a.points}: cannot read points ({e})")
         near = np.abs(p[:, axis] - a.at) < a.slab
+        print(f"plot_slice: {a.points}: {int(near.sum())} points within {a.slab} mm of the plane")
         plt.plot(p[near, h], p[near, v], ".", color="grey", ms=3, label=f"points within {a.slab} mm")
     plt.xlim(a.window[0], a.window[1])
     plt.ylim(a.window[2], a.window[3])

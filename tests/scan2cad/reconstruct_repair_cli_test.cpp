@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -200,4 +201,28 @@ TEST(reconstruct_cli, cup_output_does_not_depend_on_the_heap_layout) {
   ASSERT_EQ(run("generate_scan --kind respirator --id onesize --params " + std::string(SOURCE_DIR) +
                 "/data/generator/respirators.json --seed 1 --out " + scan).code, 0);
   expect_same_bytes_under_other_heaps(scan, "respirator");
+}
+
+// scripts/plot_slice.py, with which the README's slices were drawn: the slice through NIOSH
+// medium's neck lip has the reference in its window and gives a PNG; a missing mesh gives one
+// line naming it, a non-zero exit and no PNG.
+TEST(plot_slice_script, draws_the_niosh_lip_and_rejects_a_missing_mesh) {
+  fs::create_directories(dir);
+  const std::string script = std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/scripts/plot_slice.py";
+  const std::string png = (dir / "lip.png").string(), out = (dir / "plot_slice.txt").string();
+  const std::string args = " --axis x --at 1.0 --window -172 -150 -125 -103 --out " + png + " ";
+  int st = std::system((script + args + niosh_medium + " > " + out + " 2>&1").c_str());
+  ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << bytes_of(out);
+  EXPECT_NE(bytes_of(out).find("NIOSH_medium_20k.stl: "), std::string::npos) << bytes_of(out);
+  EXPECT_EQ(bytes_of(out).find(": 0 inside the window"), std::string::npos) << bytes_of(out);
+  const std::string bytes = bytes_of(png);
+  ASSERT_GT(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+  fs::remove(png);
+  st = std::system((script + args + (dir / "nope.stl").string() + " > " + out + " 2>&1").c_str());
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) != 0);
+  const std::string err = bytes_of(out);
+  EXPECT_NE(err.find("nope.stl"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_FALSE(fs::exists(png));
 }
