@@ -44,6 +44,11 @@ int main(int argc, char** argv) {
   cli.option("-H", "--hole-cut-spacings", &hole_cut, "cut Poisson faces this many spacings from the points, 0 = off (-1: default)", -1, 100);
   cli.flag("-G", "--poisson-thin-parts-thinned", &thin_parts_thinned, "Poisson: thin the points of thin parts too");
   cli.option("-U", "--untangle-rounds", &untangle, "rounds of refilling faces the projection made cross (-1: default)", -1, 20);
+  bool onto_smoothed = false;
+  cli.flag("-O", "--project-onto-smoothed", &onto_smoothed, "Poisson: project onto the jet-smoothed points");
+  int projection_neighbors = -1;
+  cli.option("-K", "--projection-neighbors", &projection_neighbors,
+             "Poisson: neighbours of the projection onto the unsmoothed points (-1: default)", -1, 200);
   cli.option("-e", "--edge", &ropt.target_edge_mm, "repair target edge [mm]", 0, 50);
   cli.option("-s", "--smooth", &ropt.smoothing_iterations, "repair smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &ropt.smoothing_time, "repair smoothing time step", 1e-9, 1);
@@ -83,6 +88,8 @@ int main(int argc, char** argv) {
     if (hole_cut >= 0) opt.hole_cut_spacings = hole_cut;
     opt.poisson_keep_thin_parts = !thin_parts_thinned;
     if (untangle >= 0) opt.untangle_rounds = untangle;
+    opt.projection_onto_unsmoothed = !onto_smoothed;
+    if (projection_neighbors > 0) opt.projection_neighbors = projection_neighbors;
     auto t0 = clock::now();
     scan2cad::ReconstructStats rs;
     const auto rec = scan2cad::reconstruct(cloud, scan2cad::ScanKind::head, opt, &rs);

@@ -15,8 +15,9 @@
 ///                      the smoothed points, its triangles put back on the unsmoothed ones.
 /// (6) Poisson only: the faces it made where the scan has no points are cut out (repair fills
 /// those holes with fairing), then every output vertex is moved onto a local quadric of its
-/// nearest denoised points whose normals agree with it (Poisson rounds ear rims and the nose by
-/// 1-3 mm), and faces that move made cross are cut out and refilled (internal/project_onto_points.h).
+/// nearest unsmoothed points whose normals agree with it (Poisson rounds ear rims and the nose by
+/// 1-3 mm; the jet smoothing rounds creases already), and faces that move made cross are cut out
+/// and refilled (internal/project_onto_points.h).
 /// The defaults come from measurements on noisy NIOSH headform scans; see README.md. Respirator
 /// scans of the whole cup (a thin closed shell, wall ~1.5 mm, no normals): the two sides are
 /// separated before normal orientation and only the inner side (toward the face) is kept and
@@ -80,6 +81,16 @@ struct ReconstructOptions {
   /// agree with it (internal/project_onto_points.h); 0 = off, else the largest move [mm]
   /// (a larger one is an extrapolation and the vertex stays). Default 3 mm
   double projection_max_move_mm = 3.0;
+  /// Poisson with projection: the points projected onto are the unsmoothed ones (outliers and
+  /// spikes removed, before jet smoothing), each with its denoised point's oriented normal, and
+  /// the quadric takes projection_neighbors of them; false: the denoised (jet-smoothed) points
+  /// and `neighbors`, as until 2026-12-03. Default true: acceptance scans, Hausdorff / p95 [mm],
+  /// NIOSH large 1.823 / 0.188 -> 1.540 / 0.170, generated medium 0.943 / 0.168 -> 0.875 / 0.153
+  /// (scan2cad/README.md, session 18). Off with denoised_cell_mm > 0
+  bool projection_onto_unsmoothed = true;
+  /// neighbours of the projection's quadric on the unsmoothed points; default 64 (32: p95
+  /// 0.198-0.212 mm, the noise shows through; 96: NIOSH large's ear flap rounded), range 6-200
+  int projection_neighbors = 64;
   /// Poisson with projection: rounds of internal::untangle_crossings after it (faces the projection
   /// made cross are cut out, each gap filled with a faired patch that is projected again); 0 =
   /// none, the crossings are left to repair, which fills them flat. Default 3

@@ -37,6 +37,11 @@ int main(int argc, char** argv) {
              "heads: thin a denser scan to the grid density of a scan of this many points, 0 = none", 0, 2000000000);
   cli.option("-P", "--projection-max-move", &opt.projection_max_move_mm,
              "Poisson: move output vertices onto the points by at most this [mm], 0 = off", 0.0, 50.0);
+  bool onto_smoothed = false;
+  cli.flag("-S", "--project-onto-smoothed", &onto_smoothed,
+           "Poisson: project onto the jet-smoothed points (default: onto the unsmoothed ones)");
+  cli.option("-K", "--projection-neighbors", &opt.projection_neighbors,
+             "Poisson: neighbours of the projection's quadric on the unsmoothed points", 6, 200);
   cli.option("-H", "--hole-cut-spacings", &opt.hole_cut_spacings,
              "Poisson: cut faces farther than this many spacings from the points (scan holes, filled by repair), 0 = off",
              0.0, 100.0);
@@ -56,6 +61,7 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     opt.density_reference_points = std::size_t(density_points);
     opt.refit_on_own_side = !no_refit;
+    opt.projection_onto_unsmoothed = !onto_smoothed;
     opt.poisson_keep_thin_parts = !thin_parts_thinned;
     // 1. Options
     const auto kind = kind_unit.kind();

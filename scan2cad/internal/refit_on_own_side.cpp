@@ -22,7 +22,7 @@ using NeighborQuery = CGAL::Point_set_processing_3::internal::Neighbor_query<pip
 constexpr std::size_t degree_fitting = 2, degree_monge = 2;
 }  // namespace
 
-RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
+RefitStats refit_on_own_side(std::vector<PN>& pn, std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
                              std::vector<char>* thin) {
   RefitStats st;
   const std::size_t n = pn.size();
@@ -70,17 +70,21 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Po
   const double limit = spike_move_limit_mm(std::move(moves));
   std::vector<PN> kept;
   kept.reserve(n);
+  std::vector<pipeline::Point> raw_kept;
+  raw_kept.reserve(n);
   if (thin) thin->clear();
   for (std::size_t i = 0; i < n; ++i) {
+    if (move[i] > limit) {
+      ++st.spikes;
+      continue;
+    }
+    raw_kept.push_back(raw[i]);
     if (move[i] == -2.0) {
       ++st.one_sided;
       kept.push_back(pn[i]);
     } else if (move[i] < 0) {
       ++st.too_few;
       kept.push_back(pn[i]);
-    } else if (move[i] > limit) {
-      ++st.spikes;
-      continue;
     } else {
       ++st.refitted;
       kept.push_back(fitted[i]);
@@ -88,6 +92,7 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, const std::vector<pipeline::Po
     if (thin) thin->push_back(move[i] != -2.0);
   }
   pn.swap(kept);
+  raw.swap(raw_kept);
   return st;
 }
 

@@ -33,8 +33,9 @@ struct RefitStats {
 
 /// @param[in,out] pn   oriented points [mm] with unit normals (smoothed positions); on return the
 ///                     refitted points, spikes dropped, order kept
-/// @param[in]     raw  the same points' unsmoothed positions, raw[i] for pn[i]
-///                     (@throws std::invalid_argument if the sizes differ)
+/// @param[in,out] raw  the same points' unsmoothed positions, raw[i] for pn[i]
+///                     (@throws std::invalid_argument if the sizes differ); on return the
+///                     spikes are dropped here too, so raw[i] still goes with pn[i]
 /// @param[in]     k    neighbours of a fit (≥ 6)
 /// @param[in]     min_cos  a neighbour is on the point's side when n_i . n_j > min_cos
 /// @param[out]    thin  optional: on return one flag per returned point, 1 for the points that
@@ -43,7 +44,7 @@ struct RefitStats {
 /// Spikes are dropped as by jet smoothing in reconstruct (spike_move_limit_mm of the refitted
 /// points' moves, point_set_steps.h).
 RefitStats refit_on_own_side(std::vector<std::pair<pipeline::Point, pipeline::Vector>>& pn,
-                             const std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
+                             std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
                              std::vector<char>* thin = nullptr);
 
 }  // namespace scan2cad::internal

@@ -122,3 +122,27 @@ TEST(refit_on_own_side, leaves_a_surface_with_one_side_in_reach_as_it_is) {
     ASSERT_EQ(s.pn[i].second, before[i].second) << i;
   }
 }
+
+// The refit drops its spikes from the unsmoothed positions as well as from the points, so
+// raw[i] still goes with pn[i] on return (reconstruct then projects Poisson's vertices onto the
+// unsmoothed points with the denoised points' normals). A disc point's unsmoothed position
+// lifted 3 mm off its face is a spike: it must go, and every other pair must stay paired.
+TEST(refit_on_own_side, drops_a_spike_from_the_unsmoothed_positions_too) {
+  const test_meshes::DiscScan disc = test_meshes::disc_scan(2.5);
+  Smoothed s = smoothed_and_oriented(disc.pn, disc.outward);
+  std::size_t spike = 0;  // the point nearest the top face's centre
+  for (std::size_t i = 0; i < s.raw.size(); ++i)
+    if (s.pn[i].second.z() > 0 && CGAL::squared_distance(s.raw[i], Point(0, 0, 1.25)) <
+                                      CGAL::squared_distance(s.raw[spike], Point(0, 0, 1.25)))
+      spike = i;
+  s.raw[spike] = s.raw[spike] + Vector(0, 0, 3.0);
+  const Point spike_at = s.raw[spike];
+  std::vector<Point> raw_others;  // the unsmoothed positions of the other points, in order
+  for (std::size_t i = 0; i < s.raw.size(); ++i)
+    if (i != spike) raw_others.push_back(s.raw[i]);
+  const auto st = scan2cad::internal::refit_on_own_side(s.pn, s.raw, 24, 0.5);
+  EXPECT_EQ(st.spikes, 1u);  // the disc's own points: none (brings_back_the_two_faces_of_a_thin_disc)
+  ASSERT_EQ(s.raw.size(), s.pn.size());
+  EXPECT_EQ(std::count(s.raw.begin(), s.raw.end(), spike_at), 0);
+  EXPECT_EQ(s.raw, raw_others);
+}
