@@ -668,7 +668,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       // point's oriented normal, over opt.projection_neighbors. The jet smoothing has already
       // rounded every crease and tip once; a quadric over the smoothed points rounds them
       // again. Acceptance scans, Hausdorff / p95 [mm], smoothed (24) -> unsmoothed (64): NIOSH
-      // large 1.823 / 0.188 -> 1.540 / 0.170, generated medium 0.943 / 0.168 -> 0.875 / 0.153;
+      // large 1.823 / 0.188 -> 1.505 / 0.170, generated medium 0.943 / 0.168 -> 0.874 / 0.153;
       // 32 neighbours were too noisy (p95 0.198-0.212), 96 rounded the ear's front flap
       // (README.md, session 18).
       std::vector<PN> raw;

@@ -85,7 +85,7 @@ struct ReconstructOptions {
   /// spikes removed, before jet smoothing), each with its denoised point's oriented normal, and
   /// the quadric takes projection_neighbors of them; false: the denoised (jet-smoothed) points
   /// and `neighbors`, as until 2026-12-03. Default true: acceptance scans, Hausdorff / p95 [mm],
-  /// NIOSH large 1.823 / 0.188 -> 1.540 / 0.170, generated medium 0.943 / 0.168 -> 0.875 / 0.153
+  /// NIOSH large 1.823 / 0.188 -> 1.505 / 0.170, generated medium 0.943 / 0.168 -> 0.874 / 0.153
   /// (scan2cad/README.md, session 18). Off with denoised_cell_mm > 0
   bool projection_onto_unsmoothed = true;
   /// neighbours of the projection's quadric on the unsmoothed points; default 64 (32: p95

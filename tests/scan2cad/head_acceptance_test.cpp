@@ -154,6 +154,9 @@ const HeadRun& head_run(const std::string& name, std::size_t points = 200000) {
 // and beside the nose, and an outlier inside a nape hole, put them at 1.2-2.2 mm.
 const std::map<std::string, const char*> kHausdorffNotMet = {{"NIOSH_medium", "the STL's thin lip along the neck cap"},
                                                              {"NIOSH_large", "the rim of the STL's neck cap, a 63 deg edge"}};
+// What those two are checked against above the neck cut instead [mm]: the requirement itself on
+// NIOSH medium (0.908 mm since session 18), NIOSH large's ear 1.424 mm under a looser bound.
+const std::map<std::string, double> kAboveNeckCutBound_mm = {{"NIOSH_medium", 1.0}, {"NIOSH_large", 1.6}};
 
 class head_acceptance : public ::testing::TestWithParam<const char*> {};
 
@@ -177,7 +180,7 @@ TEST_P(head_acceptance, closed_manifold_within_p95_and_1mm) {
     // NIOSH large's ear, 1.42 mm (session 17: 1.30 mm at the ear's front flap, under 1 mm
     // thick); NIOSH medium is within 1 mm there since session 18 (0.91 mm, was 1.02). NIOSH
     // large's ear fin was 2.23 mm here until session 14.
-    EXPECT_LE(r.distance_above_neck_cut.hausdorff_mm, 1.6);
+    EXPECT_LE(r.distance_above_neck_cut.hausdorff_mm, kAboveNeckCutBound_mm.at(r.name));
   }
 }
 
