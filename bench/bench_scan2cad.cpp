@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   cli.option("-e", "--edge", &ropt.target_edge_mm, "repair target edge [mm]", 0, 50);
   cli.option("-s", "--smooth", &ropt.smoothing_iterations, "repair smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &ropt.smoothing_time, "repair smoothing time step", 1e-9, 1);
+  cli.option("-p", "--spike-factor", &ropt.spike_factor, "repair spike threshold (x mean one-ring radius)", 0.1, 1000);
   cli.option("-S", "--seed", &seed, "random seed", 0, 1 << 30);
   cli.option("-o", "--out", &out_prefix, "write PREFIX_reconstructed.ply and PREFIX_repaired.ply (optional)");
   return pipeline::run_main(cli, argc, argv, [&] {

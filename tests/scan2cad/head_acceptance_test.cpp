@@ -139,13 +139,13 @@ const HeadRun& head_run(const std::string& name, std::size_t points = 200000) {
 
 // Heads on which the symmetric Hausdorff distance ≤ 1 mm is not met, and why (measured
 // 2026-12-03; reference -> output; scan2cad/README.md, sessions 11 to 18):
-// - NIOSH medium 3.94 mm at (-3.3, -162.2, -115.0): the STL's neck cap ends in a thin lip along
+// - NIOSH medium 3.91 mm at (-3.3, -162.2, -115.0): the STL's neck cap ends in a thin lip along
 //   its back rim (a wedge of ~8 deg, ~5 mm long), thinner than the 0.3 mm noise over its last
 //   4 mm, and in spikes: the scan has no point within 2.3 mm of one spike's tip at
 //   (1.0, -162.2, -115.0), so 1 mm there means inventing geometry past the data;
 // - NIOSH large 1.51 mm at (24.3, -174.0, -143.5): the rim of the STL's neck cap, a 63 deg edge
 //   that the smoothing rounds (1.82 mm until the projection went onto the unsmoothed points,
-//   session 18); then the ear, 1.42 mm above the neck cut. The ear's fin (~1.5 mm across), 2.23 mm
+//   session 18); then the ear's front flap, 1.23 mm above the neck cut. The ear's fin (~1.5 mm across), 2.23 mm
 //   until session 14, is within 1 mm on this scan since its points go to Poisson unthinned and
 //   the crossings the projection made there are refilled instead of cut flat (not on every
 //   scan: seed 1 gives 1.90 mm at the fin, whose top is one point spacing wide).
@@ -155,8 +155,8 @@ const HeadRun& head_run(const std::string& name, std::size_t points = 200000) {
 const std::map<std::string, const char*> kHausdorffNotMet = {{"NIOSH_medium", "the STL's thin lip along the neck cap"},
                                                              {"NIOSH_large", "the rim of the STL's neck cap, a 63 deg edge"}};
 // What those two are checked against above the neck cut instead [mm]: the requirement itself on
-// NIOSH medium (0.908 mm since session 18), NIOSH large's ear 1.424 mm under a looser bound.
-const std::map<std::string, double> kAboveNeckCutBound_mm = {{"NIOSH_medium", 1.0}, {"NIOSH_large", 1.6}};
+// NIOSH medium (0.908 mm since session 18), NIOSH large's ear (1.226 mm) under a looser bound.
+const std::map<std::string, double> kAboveNeckCutBound_mm = {{"NIOSH_medium", 1.0}, {"NIOSH_large", 1.4}};
 
 class head_acceptance : public ::testing::TestWithParam<const char*> {};
 
@@ -177,9 +177,10 @@ TEST_P(head_acceptance, closed_manifold_within_p95_and_1mm) {
   } else {
     std::printf("%-22s hausdorff <= 1 mm not checked: not met (%s)\n", r.name.c_str(), not_met->second);
     // what is checked instead: the head above its neck cut, where what is left above 1 mm is
-    // NIOSH large's ear, 1.42 mm (session 17: 1.30 mm at the ear's front flap, under 1 mm
-    // thick); NIOSH medium is within 1 mm there since session 18 (0.91 mm, was 1.02). NIOSH
-    // large's ear fin was 2.23 mm here until session 14.
+    // NIOSH large's ear, 1.23 mm (session 17: 1.30 mm at the ear's front flap, under 1 mm
+    // thick; 1.42 mm while repair's spike filter still cut the fin's top, session 18); NIOSH
+    // medium is within 1 mm there since session 18 (0.91 mm, was 1.02). NIOSH large's ear fin
+    // was 2.23 mm here until session 14.
     EXPECT_LE(r.distance_above_neck_cut.hausdorff_mm, kAboveNeckCutBound_mm.at(r.name));
   }
 }
@@ -202,8 +203,8 @@ INSTANTIATE_TEST_SUITE_P(head, head_acceptance, ::testing::ValuesIn(kHeads),
 // 150,000 points 12.9 mm, each at an ear. Then 3.44, 2.42 and 4.04 mm; with the own-side refit
 // 2.98, 2.18 and 3.73 mm; with the thin parts unthinned for Poisson and the untangling (session
 // 14) 2.77 (the ear's fin, ~2 mm across at this density), 1.81 (the neck cap's rim) and 3.96 mm
-// (the neck cap's lip); with the projection onto the unsmoothed points (session 18) 1.99, 1.68
-// and 3.78 mm. The 4.5 mm bound is above those and far below a wrong ear.
+// (the neck cap's lip); with the projection onto the unsmoothed points and repair's spike
+// factor 2 (session 18) 1.73, 1.68 and 3.77 mm. The 4.5 mm bound is above those and far below a wrong ear.
 struct DensityCase {
   const char* head;
   std::size_t points;
