@@ -40,11 +40,11 @@ struct RepairOptions {
   /// time step of smooth_shape (CGAL's unit); default 1e-4, range > 0
   double smoothing_time = 1e-4;
   /// spike threshold: distance to the one-ring plane / mean one-ring radius (1: sides steeper
-  /// than 45 deg, 2: steeper than 63 deg). Default 2: at 1 it moved 2 vertices of NIOSH large's
-  /// acceptance scan and 3 of NIOSH medium's, real features (the ear's fin, ~1.5 mm across and
-  /// 3 mm tall, came out 1.46 mm low instead of under 1.3; the neck cap's lip 3.94 mm instead of
-  /// 3.91), and none of the generated heads' (the same figures at 1, 2 and 100); a spike that an
-  /// outlier leaves is steeper (5 mm on 2.6 mm edges: ~3.8; the remove_spikes test)
+  /// than 45 deg, 2: steeper than 63 deg). Default 2: at 1 it moved one vertex of each NIOSH
+  /// head's acceptance scan, on real features (NIOSH large's ear fin, ~1.5 mm across and 3 mm
+  /// tall, came out 1.46 mm off instead of under 1.3; NIOSH medium's neck lip 3.94 mm instead of
+  /// 3.91), none at 2, and the generated heads give the same figures at 1, 2 and 100; a spike
+  /// that an outlier leaves is steeper (5 mm on 2.6 mm edges: ~3.8; the remove_spikes test)
   double spike_factor = 2.0;
   /// heads: reshape the hole fills after the mirror image of the scanned other side; default on
   bool symmetric_completion = true;
