@@ -165,22 +165,16 @@ TEST(reconstruct, poisson_fill_of_a_scan_hole_is_cut_out) {
 // distance must fall.
 TEST(reconstruct, projection_onto_the_unsmoothed_points_keeps_a_cube_sharper) {
   const double a = 20;
-  pipeline::SurfaceMesh cube;
-  std::vector<pipeline::VertexIndex> v;
-  for (int i = 0; i < 8; ++i) v.push_back(cube.add_vertex({i & 1 ? a : -a, i & 2 ? a : -a, i & 4 ? a : -a}));
-  // each face as two triangles, counter-clockwise seen from outside
-  for (const auto& q : std::vector<std::array<int, 4>>{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
-    cube.add_face(v[q[0]], v[q[1]], v[q[2]]);
-    cube.add_face(v[q[0]], v[q[2]], v[q[3]]);
-  }
-  ASSERT_TRUE(CGAL::is_closed(cube));
   pipeline::PolygonSoup soup;
-  for (auto x : cube.vertices()) soup.points.push_back(cube.point(x));
-  for (auto f : cube.faces()) {
-    soup.polygons.emplace_back();
-    for (auto x : CGAL::vertices_around_face(cube.halfedge(f), cube)) soup.polygons.back().push_back(std::size_t(x));
+  for (int i = 0; i < 8; ++i) soup.points.push_back({i & 1 ? a : -a, i & 2 ? a : -a, i & 4 ? a : -a});
+  // each face as two triangles, counter-clockwise seen from outside
+  for (const auto& q : std::vector<std::array<std::size_t, 4>>{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                                               {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
+    soup.polygons.push_back({q[0], q[1], q[2]});
+    soup.polygons.push_back({q[0], q[2], q[3]});
   }
+  const pipeline::SurfaceMesh cube = test_meshes::mesh_of(soup);
+  ASSERT_TRUE(CGAL::is_closed(cube));
   generator::Rng rng{11};
   generator::ScanOptions so;
   so.points = 30000;
