@@ -17,7 +17,8 @@ using PN = std::pair<pipeline::Point, pipeline::Vector>;
 using Iterator = std::vector<PN>::iterator;
 using PointMap = CGAL::First_of_pair_property_map<PN>;
 using NormalMap = CGAL::Second_of_pair_property_map<PN>;
-using NeighborQuery = CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, std::vector<PN>&, PointMap>;
+// over a non-const vector: its iterators go into the Riemannian graph
+using IteratorNeighborQuery = CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, std::vector<PN>&, PointMap>;
 
 }  // namespace
 
@@ -32,7 +33,7 @@ std::size_t orient_normals(std::vector<PN>& pn, unsigned k, double crossing_weig
   //    order found), weights computed on all threads, edges inserted in order.
   std::vector<std::vector<std::pair<std::size_t, float>>> links(n);
   {
-    NeighborQuery query(pn, PointMap());
+    IteratorNeighborQuery query(pn, PointMap());
 #pragma omp parallel for schedule(static)
     for (long li = 0; li < long(n); ++li) {
       const std::size_t i = std::size_t(li);

@@ -16,10 +16,6 @@ namespace scan2cad::internal {
 namespace {
 
 using PointMap = CGAL::First_of_pair_property_map<PointWithNormal>;
-using NeighborQuery =
-    CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, const std::vector<PointWithNormal>&, PointMap>;
-// CGAL's default degrees of jet_smooth_point_set and jet_estimate_normals
-constexpr unsigned degree_fitting = 2, degree_monge = 2;
 
 // f(i) for every point index, the same indices on the same thread in every run (static schedule)
 template <class PerPoint>
@@ -31,10 +27,10 @@ void for_each_point(std::size_t n, const PerPoint& f) {
 }  // namespace
 
 double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k) {
-  const NeighborQuery query(pn, PointMap());
+  const PointNeighborQuery query(pn, PointMap());
   std::vector<double> spacing(pn.size());
   for_each_point(pn.size(), [&](std::size_t i) {
-    spacing[i] = CGAL::internal::compute_average_spacing<NeighborQuery>(pn[i].first, query, k);
+    spacing[i] = CGAL::internal::compute_average_spacing<PointNeighborQuery>(pn[i].first, query, k);
   });
   double sum = 0;  // in point order, as CGAL's sequential sum
   for (double s : spacing) sum += s;
@@ -44,7 +40,7 @@ double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k) {
 std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, double threshold_distance_mm) {
   std::vector<std::pair<double, PointWithNormal>> scored(pn.size());
   {
-    NeighborQuery query(pn, PointMap());
+    PointNeighborQuery query(pn, PointMap());
     for_each_point(pn.size(), [&](std::size_t i) {
       scored[i] = {CGAL::internal::compute_avg_knn_sq_distance_3(pn[i].first, query, k, 0.0), pn[i]};
     });
@@ -62,10 +58,10 @@ std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, doub
 void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k) {
   std::vector<pipeline::Point> smoothed(pn.size());
   {
-    const NeighborQuery query(pn, PointMap());
+    const PointNeighborQuery query(pn, PointMap());
     for_each_point(pn.size(), [&](std::size_t i) {
       smoothed[i] =
-          CGAL::internal::jet_smooth_point<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, degree_fitting, degree_monge);
+          CGAL::internal::jet_smooth_point<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, jet_degree_fitting, jet_degree_monge);
     });
   }
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i].first = smoothed[i];
@@ -74,9 +70,9 @@ void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k) {
 void jet_normals(std::vector<PointWithNormal>& pn, unsigned k) {
   std::vector<pipeline::Vector> normal(pn.size());
   {
-    const NeighborQuery query(pn, PointMap());
+    const PointNeighborQuery query(pn, PointMap());
     for_each_point(pn.size(), [&](std::size_t i) {
-      normal[i] = CGAL::internal::jet_estimate_normal<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, degree_fitting);
+      normal[i] = CGAL::internal::jet_estimate_normal<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, jet_degree_fitting);
     });
   }
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i].second = normal[i];

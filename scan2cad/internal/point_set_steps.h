@@ -13,11 +13,23 @@
 #include <utility>
 #include <vector>
 
+#include <CGAL/Point_set_processing_3/internal/Neighbor_query.h>
+#include <CGAL/property_map.h>
+
 #include "pipeline/surface_mesh.h"
 
 namespace scan2cad::internal {
 
 using PointWithNormal = std::pair<pipeline::Point, pipeline::Vector>;
+
+/// CGAL's k-nearest query over the points of a point-with-normal vector, as its point-set
+/// functions build it; the per-point kernels below and refit_on_own_side take it.
+using PointNeighborQuery =
+    CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, const std::vector<PointWithNormal>&,
+                                                           CGAL::First_of_pair_property_map<PointWithNormal>>;
+
+/// CGAL's default degrees of jet_smooth_point_set and jet_estimate_normals (fitting, Monge).
+constexpr unsigned jet_degree_fitting = 2, jet_degree_monge = 2;
 
 /// CGAL::compute_average_spacing(points, k): mean over the points of the mean distance to their
 /// k nearest points [mm].

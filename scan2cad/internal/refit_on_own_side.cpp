@@ -2,7 +2,6 @@
 #include "scan2cad/internal/refit_on_own_side.h"
 
 #include <CGAL/Monge_via_jet_fitting.h>
-#include <CGAL/Point_set_processing_3/internal/Neighbor_query.h>
 #include <CGAL/property_map.h>
 
 #include <algorithm>
@@ -17,9 +16,6 @@ namespace scan2cad::internal {
 namespace {
 using PN = std::pair<pipeline::Point, pipeline::Vector>;
 using PointMap = CGAL::First_of_pair_property_map<PN>;
-using NeighborQuery = CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, const std::vector<PN>&, PointMap>;
-// jet_smooth_point_set's degrees
-constexpr std::size_t degree_fitting = 2, degree_monge = 2;
 }  // namespace
 
 RefitStats refit_on_own_side(std::vector<PN>& pn, std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
@@ -35,7 +31,7 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, std::vector<pipeline::Point>& 
   std::vector<double> move(n, -1.0);  // -1: too few on its side, -2: no other side in reach
   const unsigned candidates = 2 * k, least = std::max(6u, k / 2);
   {
-    const NeighborQuery query(raw_oriented, PointMap());
+    const PointNeighborQuery query(raw_oriented, PointMap());
 #pragma omp parallel for schedule(static)
     for (long li = 0; li < long(n); ++li) {
       const std::size_t i = std::size_t(li);
@@ -58,7 +54,7 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, std::vector<pipeline::Point>& 
       }
       if (own.size() < least) continue;
       CGAL::Monge_via_jet_fitting<pipeline::Kernel> fit;
-      const auto form = fit(own.begin(), own.end(), degree_fitting, degree_monge);
+      const auto form = fit(own.begin(), own.end(), jet_degree_fitting, jet_degree_monge);
       const pipeline::Vector normal = form.normal_direction();
       fitted[i] = {form.origin(), normal * ni < 0 ? -normal : normal};
       move[i] = std::sqrt(CGAL::squared_distance(raw[i], form.origin()));
