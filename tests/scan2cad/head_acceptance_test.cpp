@@ -158,9 +158,11 @@ const std::map<std::string, const char*> kHausdorffNotMet = {{"NIOSH_medium", "t
 // NIOSH medium (0.908 mm since session 18), NIOSH large's ear (1.226 mm) under a looser bound.
 const std::map<std::string, double> kAboveNeckCutBound_mm = {{"NIOSH_medium", 1.0}, {"NIOSH_large", 1.4}};
 
-class head_acceptance : public ::testing::TestWithParam<const char*> {};
-
 }  // namespace
+
+// outside the anonymous namespace: gtest derives each TEST_P's class from it, and GCC warns
+// (-Wsubobject-linkage) when this file is compiled through a unity-build source
+class head_acceptance : public ::testing::TestWithParam<const char*> {};
 
 // The requirement; the Hausdorff part is checked on the heads not in kHausdorffNotMet (the figures
 // are reproducible since 6072c8e: the same under another heap layout).
