@@ -15,8 +15,6 @@ namespace scan2cad::internal {
 
 namespace {
 
-using PointMap = CGAL::First_of_pair_property_map<PointWithNormal>;
-
 // f(i) for every point index, the same indices on the same thread in every run (static schedule)
 template <class PerPoint>
 void for_each_point(std::size_t n, const PerPoint& f) {
@@ -27,7 +25,7 @@ void for_each_point(std::size_t n, const PerPoint& f) {
 }  // namespace
 
 double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k) {
-  const PointNeighborQuery query(pn, PointMap());
+  const PointNeighborQuery query(pn, PointWithNormalPointMap());
   std::vector<double> spacing(pn.size());
   for_each_point(pn.size(), [&](std::size_t i) {
     spacing[i] = CGAL::internal::compute_average_spacing<PointNeighborQuery>(pn[i].first, query, k);
@@ -40,7 +38,7 @@ double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k) {
 std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, double threshold_distance_mm) {
   std::vector<std::pair<double, PointWithNormal>> scored(pn.size());
   {
-    PointNeighborQuery query(pn, PointMap());
+    PointNeighborQuery query(pn, PointWithNormalPointMap());
     for_each_point(pn.size(), [&](std::size_t i) {
       scored[i] = {CGAL::internal::compute_avg_knn_sq_distance_3(pn[i].first, query, k, 0.0), pn[i]};
     });
@@ -58,7 +56,7 @@ std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, doub
 void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k) {
   std::vector<pipeline::Point> smoothed(pn.size());
   {
-    const PointNeighborQuery query(pn, PointMap());
+    const PointNeighborQuery query(pn, PointWithNormalPointMap());
     for_each_point(pn.size(), [&](std::size_t i) {
       smoothed[i] =
           CGAL::internal::jet_smooth_point<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, jet_degree_fitting, jet_degree_monge);
@@ -70,7 +68,7 @@ void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k) {
 void jet_normals(std::vector<PointWithNormal>& pn, unsigned k) {
   std::vector<pipeline::Vector> normal(pn.size());
   {
-    const PointNeighborQuery query(pn, PointMap());
+    const PointNeighborQuery query(pn, PointWithNormalPointMap());
     for_each_point(pn.size(), [&](std::size_t i) {
       normal[i] = CGAL::internal::jet_estimate_normal<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, jet_degree_fitting);
     });

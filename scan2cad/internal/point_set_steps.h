@@ -22,11 +22,14 @@ namespace scan2cad::internal {
 
 using PointWithNormal = std::pair<pipeline::Point, pipeline::Vector>;
 
+/// The point of a point-with-normal, as CGAL's point-set functions read it.
+using PointWithNormalPointMap = CGAL::First_of_pair_property_map<PointWithNormal>;
+
 /// CGAL's k-nearest query over the points of a point-with-normal vector, as its point-set
 /// functions build it; the per-point kernels below and refit_on_own_side take it.
 using PointNeighborQuery =
     CGAL::Point_set_processing_3::internal::Neighbor_query<pipeline::Kernel, const std::vector<PointWithNormal>&,
-                                                           CGAL::First_of_pair_property_map<PointWithNormal>>;
+                                                           PointWithNormalPointMap>;
 
 /// CGAL's default degrees of jet_smooth_point_set and jet_estimate_normals (fitting, Monge).
 constexpr unsigned jet_degree_fitting = 2, jet_degree_monge = 2;

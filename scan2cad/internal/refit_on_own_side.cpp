@@ -15,7 +15,6 @@ namespace scan2cad::internal {
 
 namespace {
 using PN = std::pair<pipeline::Point, pipeline::Vector>;
-using PointMap = CGAL::First_of_pair_property_map<PN>;
 }  // namespace
 
 RefitStats refit_on_own_side(std::vector<PN>& pn, std::vector<pipeline::Point>& raw, unsigned k, double min_cos,
@@ -31,7 +30,7 @@ RefitStats refit_on_own_side(std::vector<PN>& pn, std::vector<pipeline::Point>& 
   std::vector<double> move(n, -1.0);  // -1: too few on its side, -2: no other side in reach
   const unsigned candidates = 2 * k, least = std::max(6u, k / 2);
   {
-    const PointNeighborQuery query(raw_oriented, PointMap());
+    const PointNeighborQuery query(raw_oriented, PointWithNormalPointMap());
 #pragma omp parallel for schedule(static)
     for (long li = 0; li < long(n); ++li) {
       const std::size_t i = std::size_t(li);
