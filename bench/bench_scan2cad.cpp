@@ -113,8 +113,10 @@ int main(int argc, char** argv) {
       pipeline::write_surface_mesh(out_prefix + "_repaired.ply", out);
     }
     const auto d = scan2cad::surface_distance(out, reference);
-    std::printf("worst output point %.2f %.2f %.2f | worst reference point %.2f %.2f %.2f\n", d.a_worst.x(),
-                d.a_worst.y(), d.a_worst.z(), d.b_worst.x(), d.b_worst.y(), d.b_worst.z());
+    std::printf("worst output point %.2f %.2f %.2f | worst reference point %.2f %.2f %.2f, nearest scan point %.2f mm "
+                "from it\n",
+                d.a_worst.x(), d.a_worst.y(), d.a_worst.z(), d.b_worst.x(), d.b_worst.y(), d.b_worst.z(),
+                scan2cad::nearest_point_distance_mm(cloud, d.b_worst));
     std::printf("method %s points %zu used %zu outliers_removed %zu | reconstruct %.1f s repair %.1f s total %.1f s | "
                 "hausdorff %.3f mm (out->ref %.3f, ref->out %.3f) p95 %.3f mm mean %.3f mm | closed %d manifold %d "
                 "self-intersecting %d faces %zu holes_filled_in_repair %zu\n",

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <vector>
 
 #include "pipeline/error.h"
@@ -101,6 +102,13 @@ std::vector<SurfaceDistance> surface_distances(const SurfaceMesh& a, const Surfa
 SurfaceDistance surface_distance(const SurfaceMesh& a, const SurfaceMesh& b, std::size_t n,
                                  const std::vector<Ball>& excluded) {
   return surface_distances(a, b, n, std::vector<Exclusion>{{excluded, {}}}).front();
+}
+
+double nearest_point_distance_mm(const pipeline::PointCloud& cloud, const pipeline::Point& p) {
+  if (cloud.points.empty()) throw pipeline::bad_input("nearest_point_distance", "the point cloud is empty");
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& q : cloud.points) best = std::min(best, CGAL::squared_distance(p, q));
+  return std::sqrt(best);
 }
 
 }  // namespace scan2cad

@@ -57,4 +57,15 @@ std::vector<SurfaceDistance> surface_distances(const pipeline::SurfaceMesh& a, c
 std::vector<SurfaceDistance> surface_distances(const pipeline::SurfaceMesh& a, const pipeline::SurfaceMesh& b,
                                                std::size_t samples_per_mesh, const std::vector<Exclusion>& exclusions);
 
+/// How near the scan itself came to a point of the reference: the distance from `p` to the
+/// nearest point of `cloud` [mm]. At a reconstruction's worst reference point this tells "the
+/// method cut it off" from "the scanner never sampled it": at a tip or a thin edge, a surface
+/// nearer to p than this reaches out beyond every point the scan gave.
+/// A linear scan of the cloud, for a few queries (no search tree is worth building for them).
+///
+/// @param[in] cloud  scan points [mm], non-empty
+/// @param[in] p  a point [mm], e.g. SurfaceDistance::b_worst
+/// @throws pipeline::Error(bad_input) if the cloud has no points
+double nearest_point_distance_mm(const pipeline::PointCloud& cloud, const pipeline::Point& p);
+
 }  // namespace scan2cad

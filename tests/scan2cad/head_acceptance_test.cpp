@@ -43,6 +43,10 @@ struct HeadRun {
   /// lowest point left out (the NIOSH STLs close the neck with a flat cap whose rim has slivers,
   /// spikes and a 63 deg edge; none of it is anatomy)
   scan2cad::SurfaceDistance distance_above_neck_cut;
+  /// how near the scan came to the worst reference point of `distance` and of
+  /// `distance_above_neck_cut` [mm]: at a tip, the output can only get nearer by reaching out
+  /// beyond every scan point
+  double scan_gap_at_worst_mm = 0, scan_gap_at_worst_above_neck_cut_mm = 0;
   std::vector<generator::Hole> holes;  ///< the scan's holes (where the output is a fill)
   std::string error;  ///< empty when reconstruct + repair succeeded
 };
@@ -63,7 +67,7 @@ const char* const kHeads[] = {"NIOSH_medium",    "NIOSH_large",          "genera
                               "generated_large", "generated_longnarrow", "generated_shortwide"};
 
 HeadRun make_run(const std::string& name, std::size_t points = 200000) {
-  HeadRun r{name, scan_request(points), {}, {}, {}, {}, {}, {}};
+  HeadRun r{name, scan_request(points), {}, {}, {}, {}, 0, 0, {}, {}};
   const std::string niosh = "NIOSH_", generated = "generated_";
   if (name.rfind(niosh, 0) == 0) {
     r.request.mesh_path = std::string(SHARED_DATA_DIR) + "/headforms/" + name + "_20k.stl";
@@ -105,6 +109,8 @@ void run_one(HeadRun& run) {
     run.distance = d[0];
     run.distance_outside_holes = d[1];
     run.distance_above_neck_cut = d[2];
+    run.scan_gap_at_worst_mm = scan2cad::nearest_point_distance_mm(scan.cloud, d[0].b_worst);
+    run.scan_gap_at_worst_above_neck_cut_mm = scan2cad::nearest_point_distance_mm(scan.cloud, d[2].b_worst);
   } catch (const std::exception& e) {
     run.error = e.what();
   }
@@ -128,6 +134,8 @@ const HeadRun& head_run(const std::string& name, std::size_t points = 200000) {
     print_distance(r.name, "", r.distance);
     print_distance(r.name, "outside the holes: ", r.distance_outside_holes);
     print_distance(r.name, "above the neck cut: ", r.distance_above_neck_cut);
+    std::printf("%-22s nearest scan point to the worst reference point %.3f mm (above the neck cut: %.3f mm)\n",
+                r.name.c_str(), r.scan_gap_at_worst_mm, r.scan_gap_at_worst_above_neck_cut_mm);
     std::printf("%-22s closed %d manifold %d self-intersecting %d %s\n", r.name.c_str(), r.report.closed,
                 r.report.manifold, r.report.self_intersecting_after, r.error.c_str());
     for (const auto& h : r.holes)
@@ -149,6 +157,9 @@ const HeadRun& head_run(const std::string& name, std::size_t points = 200000) {
 //   until session 14, is within 1 mm on this scan since its points go to Poisson unthinned and
 //   the crossings the projection made there are refilled instead of cut flat (not on every
 //   scan: seed 1 gives 1.90 mm at the fin, whose top is one point spacing wide).
+// The test prints how near the scan came to each worst reference point (2026-12-04): 1.05 mm
+// (medium) and 0.98 mm (large), so at both rims no surface that stays with the data gets within
+// 1 mm; above the neck cut 0.48 and 0.50 mm, so there it is the method that rounds.
 // The five generated heads meet it since the symmetric completion of the hole fills and the
 // isolated-outlier pass (0.78-0.94 mm; 0.78-0.87 mm since session 18); until then the fills of random holes over the eye socket
 // and beside the nose, and an outlier inside a nape hole, put them at 1.2-2.2 mm.

@@ -111,3 +111,14 @@ TEST(surface_distance, a_bump_is_found_and_an_excluded_ball_leaves_it_out) {
   EXPECT_LT(cut[0].hausdorff_mm, 1e-6);
   EXPECT_NEAR(cut[1].hausdorff_mm, 5.0, 0.05);
 }
+
+// nearest_point_distance_mm: the distance to the nearest of the cloud's points, wherever in the
+// cloud that point is (first, last, middle); an empty cloud is bad input.
+TEST(surface_distance, the_nearest_scan_point_to_a_reference_point) {
+  pipeline::PointCloud cloud;
+  for (int i = -5; i <= 5; ++i) cloud.points.emplace_back(2.0 * i, 0, 3.0);  // a row 3 mm above the x axis
+  EXPECT_DOUBLE_EQ(scan2cad::nearest_point_distance_mm(cloud, pipeline::Point(1.0, 0, 0)), std::sqrt(10.0));
+  EXPECT_DOUBLE_EQ(scan2cad::nearest_point_distance_mm(cloud, pipeline::Point(-10.0, 0, 3.0)), 0.0);
+  EXPECT_DOUBLE_EQ(scan2cad::nearest_point_distance_mm(cloud, pipeline::Point(14.0, 4.0, 3.0)), std::sqrt(32.0));
+  EXPECT_THROW(scan2cad::nearest_point_distance_mm(pipeline::PointCloud{}, CGAL::ORIGIN), pipeline::Error);
+}
