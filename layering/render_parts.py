@@ -1,82 +1,118 @@
-"""Renders a segmented mesh (PLY with int face property "part", as written by `segment`) in
-front (+z) and side (+x, subject's left) views, parts coloured, to a PNG.
+#!/usr/bin/python3
+"""Renders a segmented mesh (PLY with an int face property "part", as `segment` writes it) in a
+front (+z), a side (+x, the subject's left) and a close-up face view, parts coloured, to a PNG.
 
-Usage: /usr/bin/python3 layering/render_parts.py segmented.ply out.png [title]
-A plain PLY parser is used because meshio cannot read binary PLY files with extra face
-properties.
+  /usr/bin/python3 layering/render_parts.py segmented.ply out.png [title]
+
+A plain PLY reader is used because meshio cannot read binary PLY files with extra face
+properties. A file that cannot be read gives one line naming it, a non-zero exit and no PNG.
 """
+import argparse
+import os
 import sys
 
 import matplotlib
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-import numpy as np
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 NAMES = ["back_of_head", "forehead", "left_cheek", "right_cheek", "chin"]
 COLOURS = ["#bbbbbb", "#e6a23c", "#409eff", "#67c23a", "#c45cd6"]
 TYPES = {"char": "i1", "uchar": "u1", "short": "i2", "ushort": "u2", "int": "i4", "uint": "u4",
-         "float": "f4", "double": "f8", "int8": "i1", "uint8": "u1", "int32": "i4", "uint32": "u4",
-         "float32": "f4", "float64": "f8"}
+         "float": "f4", "double": "f8", "int8": "i1", "uint8": "u1", "int16": "i2", "uint16": "u2",
+         "int32": "i4", "uint32": "u4", "float32": "f4", "float64": "f8"}
+
+
+def scalar_reader(fmt, body):
+    """A function that reads the next value of a PLY type name from the body, in the file's format."""
+    if fmt == "ascii":
+        tokens = iter(body.split())
+
+        def read_ascii(type_name):
+            token = next(tokens)
+            return float(token) if TYPES[type_name][0] == "f" else int(token)
+        return read_ascii
+    if fmt not in ("binary_little_endian", "binary_big_endian"):
+        raise ValueError(f"unknown PLY format '{fmt}'")
+    end = "<" if fmt == "binary_little_endian" else ">"
+    pos = 0
+
+    def read_binary(type_name):
+        nonlocal pos
+        t = np.dtype(end + TYPES[type_name])
+        if pos + t.itemsize > len(body):
+            raise ValueError("truncated: the file ends before its last element")
+        value = np.frombuffer(body, t, 1, pos)[0].item()
+        pos += t.itemsize
+        return value
+    return read_binary
 
 
 def read_ply(path):
+    """Vertices (n, 3), faces (lists of vertex indices) and each face's part (0 where absent)."""
     with open(path, "rb") as f:
+        if f.readline().strip() != b"ply":
+            raise ValueError("not a PLY file (no 'ply' on the first line)")
         header = []
         while True:
-            line = f.readline().decode("ascii").strip()
-            header.append(line)
-            if line == "end_header":
+            line = f.readline()
+            if not line:
+                raise ValueError("the header has no end_header")
+            header.append(line.decode("ascii", "replace").strip())
+            if header[-1] == "end_header":
                 break
         body = f.read()
-    fmt = [l.split()[1] for l in header if l.startswith("format")][0]
-    elements, cur = [], None
-    for l in header:
-        w = l.split()
-        if w[0] == "element":
-            cur = [w[1], int(w[2]), []]
-            elements.append(cur)
-        elif w[0] == "property":
-            cur[2].append(w[1:])
-    end = "<" if fmt == "binary_little_endian" else ">"
-    out, pos = {}, 0
-    if fmt == "ascii":
-        tokens = body.split()
+    fmt, elements = None, []
+    for line in header:
+        w = line.split()
+        if not w:
+            continue
+        if w[0] == "format":
+            fmt = w[1]
+        elif w[0] == "element":
+            elements.append((w[1], int(w[2]), []))
+        elif w[0] == "property" and elements:
+            elements[-1][2].append(w[1:])
+    read = scalar_reader(fmt, body)
+    out = {}
+    try:
         for name, count, props in elements:
             rows = []
             for _ in range(count):
                 row = {}
                 for p in props:
                     if p[0] == "list":
-                        n = int(tokens[pos]); pos += 1
-                        row[p[-1]] = [float(t) for t in tokens[pos:pos + n]]; pos += n
+                        n = read(p[1])
+                        row[p[-1]] = [read(p[2]) for _ in range(n)]
                     else:
-                        row[p[-1]] = float(tokens[pos]); pos += 1
+                        row[p[-1]] = read(p[0])
                 rows.append(row)
             out[name] = rows
-    else:
-        for name, count, props in elements:
-            rows = []
-            for _ in range(count):
-                row = {}
-                for p in props:
-                    if p[0] == "list":
-                        ct, it = np.dtype(end + TYPES[p[1]]), np.dtype(end + TYPES[p[2]])
-                        n = int(np.frombuffer(body, ct, 1, pos)[0]); pos += ct.itemsize
-                        row[p[-1]] = np.frombuffer(body, it, n, pos).tolist(); pos += n * it.itemsize
-                    else:
-                        t = np.dtype(end + TYPES[p[0]])
-                        row[p[-1]] = np.frombuffer(body, t, 1, pos)[0]; pos += t.itemsize
-                rows.append(row)
-            out[name] = rows
+    except StopIteration:
+        raise ValueError("truncated: the file ends before its last element") from None
+    if not out.get("vertex") or not out.get("face"):
+        raise ValueError("no vertices or no faces")
     pts = np.array([[r["x"], r["y"], r["z"]] for r in out["vertex"]], float)
+    if not np.isfinite(pts).all():
+        raise ValueError("a vertex coordinate is not a finite number")
     faces = [r["vertex_indices"] for r in out["face"]]
+    if any(len(f) < 3 or min(f) < 0 or max(f) >= len(pts) for f in faces):
+        raise ValueError("a face has fewer than 3 vertices or a vertex index out of range")
     part = np.array([int(r.get("part", 0)) for r in out["face"]])
     return pts, faces, part
 
 
 def main():
-    pts, faces, part = read_ply(sys.argv[1])
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("segmented", help="PLY with a face property 'part' (ascii or binary)")
+    ap.add_argument("out", help="PNG to write")
+    ap.add_argument("title", nargs="?", help="title over the three views")
+    args = ap.parse_args()
+    try:
+        pts, faces, part = read_ply(args.segmented)
+    except (OSError, ValueError, KeyError, IndexError) as e:  # one line naming the file, as every stage does
+        sys.exit(f"render_parts: {args.segmented}: cannot read a segmented PLY ({e})")
     tris = np.array([pts[f[:3]] for f in faces])
     fig = plt.figure(figsize=(15, 6))
     # Matplotlib 3D: view from +z (front), +x (subject's left side) and a view framing the face
@@ -111,9 +147,18 @@ def main():
         ax.set_title(label)
     handles = [plt.Rectangle((0, 0), 1, 1, color=COLOURS[i]) for i in range(5)]
     fig.legend(handles, NAMES, loc="lower center", ncol=5)
-    if len(sys.argv) > 3:
-        fig.suptitle(sys.argv[3])
-    fig.savefig(sys.argv[2], dpi=90, bbox_inches="tight")
+    if args.title:
+        fig.suptitle(args.title)
+    # Written beside the target and renamed, so a failed run leaves no PNG.
+    tmp = f"{args.out}.tmp{os.getpid()}"
+    try:
+        fig.savefig(tmp, format="png", dpi=90, bbox_inches="tight")
+        os.replace(tmp, args.out)
+    except OSError as e:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        sys.exit(f"render_parts: {args.out}: cannot write the PNG ({e})")
+    print(f"render_parts: {args.out}: {len(pts)} vertices, {len(faces)} faces, parts {sorted(set(part.tolist()))}")
 
 
 if __name__ == "__main__":

@@ -3,10 +3,17 @@
 // make_niosh_medium_landmarks.py).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <utility>
+#include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -79,4 +86,118 @@ TEST(segment_cli, writes_labelled_ply_and_rejects_bad_input) {
   EXPECT_EQ(run("--in /nonexistent.ply --landmarks " + fixture + " --out " + bad), 2);
   EXPECT_EQ(run("--in " + ply + " --landmarks " + fixture + " --kind hat --out " + bad), 1);
   EXPECT_FALSE(fs::exists(bad));
+}
+
+namespace {
+
+// A 20 mm cube, 12 triangles, two per face, labelled with the five parts and back_of_head again.
+struct LabelledCube {
+  std::vector<std::array<double, 3>> vertices;
+  std::vector<std::array<int, 4>> faces;  // three vertex indices and the part
+};
+
+LabelledCube labelled_cube() {
+  LabelledCube c;
+  for (int i = 0; i < 8; ++i)
+    c.vertices.push_back({20.0 * (i & 1), 20.0 * ((i >> 1) & 1), 20.0 * ((i >> 2) & 1)});
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (int q = 0; q < 6; ++q) {
+    c.faces.push_back({quads[q][0], quads[q][1], quads[q][2], q % 5});
+    c.faces.push_back({quads[q][0], quads[q][2], quads[q][3], q % 5});
+  }
+  return c;
+}
+
+std::string ply_header(const char* format, const LabelledCube& c) {
+  return std::string("ply\nformat ") + format + " 1.0\nelement vertex " + std::to_string(c.vertices.size()) +
+         "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
+         std::to_string(c.faces.size()) + "\nproperty list uchar int vertex_indices\nproperty int part\nend_header\n";
+}
+
+std::string ascii_ply(const LabelledCube& c) {
+  std::string s = ply_header("ascii", c);
+  for (const auto& v : c.vertices)
+    s += std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]) + "\n";
+  for (const auto& f : c.faces)
+    s += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + " " +
+         std::to_string(f[3]) + "\n";
+  return s;
+}
+
+std::string binary_ply(const LabelledCube& c) {  // little endian, as on every machine we build on
+  std::string s = ply_header("binary_little_endian", c);
+  auto put = [&s](const auto& value) { s.append(reinterpret_cast<const char*>(&value), sizeof value); };
+  for (const auto& v : c.vertices)
+    for (double x : v) put(x);
+  for (const auto& f : c.faces) {
+    put(static_cast<unsigned char>(3));
+    for (int k = 0; k < 4; ++k) put(static_cast<std::int32_t>(f[k]));
+  }
+  return s;
+}
+
+void write_file(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+std::string bytes_of(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+struct ScriptRun {
+  int code;
+  std::string output;  // stdout and stderr
+};
+
+ScriptRun render_parts(const fs::path& in, const fs::path& png) {
+  const fs::path log = png.string() + ".log";
+  const std::string cmd = std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/layering/render_parts.py " +
+                          in.string() + " " + png.string() + " cube > " + log.string() + " 2>&1";
+  const int st = std::system(cmd.c_str());
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, bytes_of(log)};
+}
+
+}  // namespace
+
+// layering/render_parts.py, with which the README's part pictures are drawn: the same labelled
+// mesh as ascii and as binary PLY gives the same PNG (its ascii reader once gave float vertex
+// indices and failed); a missing, non-PLY, truncated or out-of-range file gives one line naming
+// it, a non-zero exit and no PNG.
+TEST(render_parts_script, ascii_and_binary_give_the_same_png_and_bad_files_give_none) {
+  const fs::path dir = fs::temp_directory_path() / ("render_parts_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const LabelledCube cube = labelled_cube();
+  write_file(dir / "ascii.ply", ascii_ply(cube));
+  write_file(dir / "binary.ply", binary_ply(cube));
+
+  const ScriptRun a = render_parts(dir / "ascii.ply", dir / "ascii.png");
+  ASSERT_EQ(a.code, 0) << a.output;
+  EXPECT_NE(a.output.find("8 vertices, 12 faces, parts [0, 1, 2, 3, 4]"), std::string::npos) << a.output;
+  const ScriptRun b = render_parts(dir / "binary.ply", dir / "binary.png");
+  ASSERT_EQ(b.code, 0) << b.output;
+  const std::string png = bytes_of(dir / "ascii.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  EXPECT_EQ(png, bytes_of(dir / "binary.png"));
+
+  LabelledCube out_of_range = cube;
+  out_of_range.faces[5][1] = 8;
+  const std::string binary = binary_ply(cube);
+  const std::pair<std::string, std::string> bad[] = {
+      {"missing.ply", ""},
+      {"text.ply", "this is not a mesh\n"},
+      {"truncated.ply", binary.substr(0, binary.size() - 7)},
+      {"out_of_range.ply", ascii_ply(out_of_range)},
+  };
+  for (const auto& [name, bytes] : bad) {
+    if (!bytes.empty()) write_file(dir / name, bytes);
+    const fs::path png_out = dir / (name + ".png");
+    const ScriptRun r = render_parts(dir / name, png_out);
+    EXPECT_NE(r.code, 0) << name;
+    EXPECT_NE(r.output.find(name + ": "), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(fs::exists(png_out)) << name;
+  }
+  fs::remove_all(dir);
 }
