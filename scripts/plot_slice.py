@@ -15,8 +15,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import meshio  # noqa: E402
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pipeline"))
+from read_mesh_or_raise import read_mesh_or_raise  # noqa: E402
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -55,7 +57,7 @@ def main():
     colours = ["k", "r", "b", "g", "m"]
     for i, path in enumerate(a.meshes):
         try:
-            m = meshio.read(path)
+            m = read_mesh_or_raise(path)
             tri = m.cells_dict["triangle"]
         except Exception as e:  # one line naming the file, as every stage does
             sys.exit(f"plot_slice: {path}: cannot read a triangle mesh ({e})")
@@ -69,7 +71,7 @@ def main():
         plt.plot([], [], c + "-", label=path)
     if a.points:
         try:
-            p = meshio.read(a.points).points
+            p = read_mesh_or_raise(a.points).points
         except Exception as e:
             sys.exit(f"plot_slice: {a.points}: cannot read points ({e})")
         near = np.abs(p[:, axis] - a.at) < a.slab

@@ -13,6 +13,9 @@ import sys
 import meshio
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pipeline"))
+from read_mesh_or_raise import read_mesh_or_raise  # noqa: E402
+
 
 def node_data_blocks(path):
     """Yields (name, time, tags, values) for every $NodeData block of an ASCII msh file."""
@@ -37,7 +40,7 @@ def main():
         sys.exit("usage: msh_to_vtu.py results.msh out.xdmf")
     src, dst = sys.argv[1], sys.argv[2]
     try:
-        mesh = meshio.read(src, file_format="gmsh")
+        mesh = read_mesh_or_raise(src, file_format="gmsh")
     except Exception as e:  # meshio raises many types
         sys.exit(f"msh_to_vtu: {src}: cannot read: {e}")
     # meshio keeps the points in file order; map node tags to rows via the node order of the file

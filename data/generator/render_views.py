@@ -7,14 +7,17 @@ Frame: x lateral (+x = subject's left), y up, z out of the face. Front view look
 (the subject's left appears on the image's right), side view looks along -x (face to the right).
 """
 import argparse
+import os
 import sys
 
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.collections import PolyCollection
-import meshio
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "pipeline"))
+from read_mesh_or_raise import read_mesh_or_raise  # noqa: E402
 
 
 def draw(ax, pts, tris, view_dir, right, up, title):
@@ -46,7 +49,7 @@ def main():
     ap.add_argument("--title", default="")
     a = ap.parse_args()
     try:
-        m = meshio.read(a.mesh)
+        m = read_mesh_or_raise(a.mesh)
     except Exception as e:  # one clear line, non-zero exit
         sys.exit(f"render_views.py: {a.mesh}: cannot read mesh: {e}")
     tris = m.cells_dict.get("triangle")
@@ -61,7 +64,14 @@ def main():
     if a.title:
         fig.suptitle(a.title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(a.out)
+    tmp = f"{a.out}.tmp{os.getpid()}"  # renamed when complete, so a failed run leaves no PNG
+    try:
+        fig.savefig(tmp, format="png")
+        os.replace(tmp, a.out)
+    except OSError as e:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        sys.exit(f"render_views.py: {a.out}: cannot write the PNG ({e})")
 
 
 if __name__ == "__main__":

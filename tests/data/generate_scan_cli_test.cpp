@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -66,4 +67,28 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 20:10 --out " + tmp + "/x.ply"), 1);
   EXPECT_EQ(run("--from-mesh /nonexistent.stl --out " + tmp + "/x.ply"), 2);
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
+}
+
+// data/generator/render_views.py, with which the generated heads and cups were looked at: the NIOSH
+// STL gives a PNG; a text file named .ply (meshio 5.0 calls sys.exit on it) or a missing file gives
+// one line naming the file, a non-zero exit and no PNG.
+TEST(render_views_script, draws_a_head_and_rejects_what_is_not_a_mesh) {
+  std::filesystem::create_directories(tmp);
+  const std::string log = tmp + "/render_views.txt";
+  auto render = [&](const std::string& mesh, const std::string& png) {
+    const std::string cmd = std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/data/generator/render_views.py " +
+                            mesh + " " + png + " --title head > " + log + " 2>&1";
+    const int rc = std::system(cmd.c_str());
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  };
+  ASSERT_EQ(render(niosh, tmp + "/head.png"), 0) << slurp(log);
+  EXPECT_EQ(slurp(tmp + "/head.png").substr(1, 3), "PNG");
+  std::ofstream(tmp + "/text.ply") << "this is not a mesh\n";
+  for (const std::string name : {"text.ply", "missing.stl"}) {
+    EXPECT_NE(render(tmp + "/" + name, tmp + "/bad.png"), 0) << name;
+    const std::string err = slurp(log);
+    EXPECT_NE(err.find(name + ": cannot read mesh"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_FALSE(std::filesystem::exists(tmp + "/bad.png")) << name;
+  }
 }

@@ -225,4 +225,13 @@ TEST(plot_slice_script, draws_the_niosh_lip_and_rejects_a_missing_mesh) {
   EXPECT_NE(err.find("nope.stl"), std::string::npos) << err;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   EXPECT_FALSE(fs::exists(png));
+  // meshio 5.0 prints two lines and calls sys.exit on a text file named .ply; still one line.
+  const std::string text = (dir / "text.ply").string();
+  std::ofstream(text) << "this is not a mesh\n";
+  st = std::system((script + args + text + " > " + out + " 2>&1").c_str());
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) != 0);
+  const std::string text_err = bytes_of(out);
+  EXPECT_NE(text_err.find("plot_slice: " + text + ": cannot read"), std::string::npos) << text_err;
+  EXPECT_EQ(std::count(text_err.begin(), text_err.end(), '\n'), 1) << text_err;
+  EXPECT_FALSE(fs::exists(png));
 }

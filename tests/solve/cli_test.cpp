@@ -93,6 +93,16 @@ TEST(solve_cli, good_run_writes_results_state_and_histories) {
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.xdmf"));
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.h5"));
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.vtu"));
+  // a file that is not gmsh (meshio 5.0 prints two lines and calls sys.exit): one line naming it
+  c.write("not.msh", "this is not a mesh\n");
+  EXPECT_NE(c.sh(std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/solve/msh_to_vtu.py " + c.dir + "/not.msh " +
+                 c.dir + "/out/not.xdmf"),
+            0);
+  const std::string err = c.read("err.txt");
+  EXPECT_NE(err.find("msh_to_vtu: " + c.dir + "/not.msh: cannot read"), std::string::npos) << err;
+  EXPECT_EQ(count(err, "\n"), 1) << err;
+  EXPECT_EQ(c.read("out.txt"), "");
+  EXPECT_FALSE(fs::exists(c.dir + "/out/not.xdmf"));
 }
 
 TEST(solve_cli, bad_deck_one_error_line_no_results) {
