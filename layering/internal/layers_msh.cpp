@@ -49,11 +49,14 @@ FeModel read_fe_model(const std::string& path) {
     gmsh::open(path);
   } catch (const std::exception& e) {
     throw pipeline::bad_input(path, std::string("gmsh cannot read it: ") + e.what());
+  } catch (const std::string& e) {  // the gmsh API throws its last error message as a string
+    throw pipeline::bad_input(path, "gmsh cannot read it: " + e);
   }
   FeModel m;
   std::vector<std::size_t> tags;
   std::vector<double> xyz, param;
   gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, true, false);
+  if (tags.empty()) throw pipeline::bad_input(path, "no nodes (empty, or not a gmsh mesh)");
   std::map<std::size_t, int> index;
   for (std::size_t i = 0; i < tags.size(); ++i) {
     if (index.count(tags[i])) continue;

@@ -3,8 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
+#include <string>
+#include <utility>
+#include <unistd.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -194,4 +198,31 @@ TEST(layers_cli, missing_input_exits_2_without_output) {
                           " --out " + out + " 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 2);
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// gmsh throws its errors as std::string, which the reader once let through as an internal error
+// (exit 3, "Error loading ..."); an empty file read as a mesh without groups.
+TEST(layers_cli, empty_or_truncated_msh_exits_2_with_one_line_naming_it) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("layers_cli_bad_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::pair<std::string, std::string> bad[] = {
+      {"empty.msh", ""},
+      {"truncated.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n"},
+  };
+  for (const auto& [name, text] : bad) {
+    std::ofstream(dir / name) << text;
+    const std::string out = (dir / (name + ".layers.msh")).string(), log = (dir / "log.txt").string();
+    const std::string cmd = std::string(BIN_DIR) + "/layers --in " + (dir / name).string() + " --materials " +
+                            kMaterials + " --out " + out + " > /dev/null 2> " + log;
+    EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 2) << name;
+    std::ifstream in(log);
+    std::string line, last;
+    int lines = 0;
+    while (std::getline(in, line))
+      if (line.find("options:") == std::string::npos) ++lines, last = line;  // the resolved-options log line
+    EXPECT_EQ(lines, 1) << last;
+    EXPECT_NE(last.find(name + ": "), std::string::npos) << last;
+    EXPECT_FALSE(std::filesystem::exists(out)) << name;
+  }
+  std::filesystem::remove_all(dir);
 }
