@@ -18,9 +18,9 @@
 #include "layering/layers.h"
 #include "meshing/assemble.h"
 #include "meshing/straps.h"
-#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 
 namespace {
 
@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
     const auto lm = meshing::read_landmarks(case_dir + "/head/landmarks.json");
     const auto head_stacks = layering::read_stacks(materials, "head");
     const auto resp_stacks = layering::read_stacks(materials, "respirator");
-    const auto mat = nlohmann::json::parse(pipeline::read_text(materials));
+    const auto mat = pipeline::read_json(materials);
 
     layering::FeModel head, resp, straps, model;
     layering::LayerReport head_rep, resp_rep;

@@ -10,8 +10,8 @@
 #include "layering/internal/layers_columns.h"
 #include "layering/internal/layers_geometry.h"
 #include "meshing/internal/assemble_geometry.h"
-#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 
 namespace meshing {
 namespace {
@@ -92,7 +92,7 @@ double gap_with_shift(const FeModel& head, const internal::TriangleTree& head_tr
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
   std::map<std::string, Eigen::Vector3d> out;
   try {
-    const auto j = nlohmann::json::parse(pipeline::read_text(path));
+    const auto j = pipeline::read_json(path);
     for (auto& [name, v] : j.at("landmarks").items()) {
       const auto& p = v.at("position");
       out[name] = Eigen::Vector3d(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());

@@ -15,6 +15,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
+#include "pipeline/read_json.h"
 
 int main(int argc, char** argv) {
   std::string head, resp, straps, landmarks, materials, out, deck1, deck2, state1 = "stage1/state.bin";
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
     const auto r = layering::read_fe_model(resp);
     const auto s = layering::read_fe_model(straps);
     const auto lm = meshing::read_landmarks(landmarks);
-    const auto mat = nlohmann::json::parse(pipeline::read_text(materials));
+    const auto mat = pipeline::read_json(materials);
     // 2. Place and merge (checks the gap and that nothing intersects).
     meshing::AssembleReport rep;
     const auto model = meshing::assemble_model(h, r, s, lm, opt, &rep);

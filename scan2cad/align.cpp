@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 #include "scan2cad/internal/align_symmetry.h"
 
 namespace scan2cad {
@@ -220,7 +220,7 @@ std::string align_json(const AlignResult& r, AlignKind kind, double unit_scale_t
 Eigen::Matrix4d read_align_transform(const std::string& path) {
   Eigen::Matrix4d T;
   try {
-    const auto j = nlohmann::json::parse(pipeline::read_text(path));
+    const auto j = pipeline::read_json(path);
     const auto& m = j.at("matrix");
     if (!m.is_array() || m.size() != 4) throw pipeline::bad_input(path, "\"matrix\" must have 4 rows");
     for (int i = 0; i < 4; ++i) {

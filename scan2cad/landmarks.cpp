@@ -4,8 +4,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 
 namespace scan2cad {
 
@@ -37,12 +37,7 @@ std::string landmarks_json(const Landmarks& l) {
 }
 
 Landmarks read_landmarks(const std::string& path) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(pipeline::read_text(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw pipeline::bad_input(path, std::string("not JSON: ") + e.what());
-  }
+  const nlohmann::json j = pipeline::read_json(path);
   if (!j.is_object() || !j.contains("landmarks") || !j["landmarks"].is_object())
     throw pipeline::bad_input(path, "no \"landmarks\" object");
   Landmarks l;

@@ -11,6 +11,7 @@
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 #include "solve/internal/gmsh_init.h"
 
 namespace solve {
@@ -202,13 +203,7 @@ Model read_msh(const std::string& path) {
 void apply_deck_json(Model& m, const json& j, const std::string& deck_name);
 
 void apply_deck(Model& m, const std::string& text, const std::string& deck_name) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const std::exception& e) {
-    std::string what = e.what();
-    throw pipeline::bad_input(deck_name, "not valid JSON: " + what.substr(what.find(']') + 2));
-  }
+  const json j = pipeline::parse_json(text, deck_name);
   if (!j.is_object()) throw pipeline::bad_input(deck_name, "the deck must be a JSON object");
   try {
     apply_deck_json(m, j, deck_name);

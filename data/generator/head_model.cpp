@@ -7,8 +7,8 @@
 #include <unordered_map>
 #include <nlohmann/json.hpp>
 
-#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 
 namespace generator {
 
@@ -153,12 +153,7 @@ const std::array<Range, 8> kFields{{{"face_length", &HeadParams::face_length, 80
 }  // namespace
 
 HeadParams read_head_params(const std::string& path, const std::string& id) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(pipeline::read_text(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw pipeline::bad_input(path, std::string("not valid JSON: ") + e.what());
-  }
+  const nlohmann::json j = pipeline::read_json(path);
   if (!j.contains("headforms") || !j["headforms"].is_object())
     throw pipeline::bad_input(path, "no \"headforms\" object");
   if (!j["headforms"].contains(id)) {

@@ -4,14 +4,14 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 
 namespace generator {
 
 RespiratorParams read_respirator_params(const std::string& path, const std::string& id, HeadParams* face) {
   *face = read_head_params(path, "average");
-  const nlohmann::json j = nlohmann::json::parse(pipeline::read_text(path));  // valid: read above
+  const nlohmann::json j = pipeline::read_json(path);  // valid: read above
   if (!j.contains("respirators") || !j["respirators"].is_object())
     throw pipeline::bad_input(path, "no \"respirators\" object");
   if (!j["respirators"].contains(id)) {

@@ -9,6 +9,7 @@
 #include "layering/layers.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 
 namespace layering {
 namespace {
@@ -136,12 +137,7 @@ void write_fe_model(const FeModel& m, const std::string& path) {
 }
 
 std::map<std::string, Stack> read_stacks(const std::string& materials_json, const std::string& kind) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(pipeline::read_text(materials_json));
-  } catch (const nlohmann::json::exception& e) {
-    throw pipeline::bad_input(materials_json, std::string("not valid JSON: ") + e.what());
-  }
+  const nlohmann::json j = pipeline::read_json(materials_json);
   auto parse_stack = [&](const nlohmann::json& a, const std::string& where) {
     Stack s;
     if (!a.is_array() || a.empty()) throw pipeline::bad_input(materials_json, where + ": expected [[material, mm], ...]");

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 
 namespace layering::internal {
 
@@ -28,13 +28,7 @@ Vec3 point(const nlohmann::json& lm, const std::string& path, const std::string&
 }  // namespace
 
 HeadLandmarks read_segment_landmarks(const std::string& path) {
-  const std::string text = pipeline::read_text(path);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const std::exception& e) {
-    throw pipeline::bad_input(path, std::string("not valid JSON: ") + e.what());
-  }
+  const nlohmann::json j = pipeline::read_json(path);
   if (!j.is_object() || !j.contains("landmarks") || !j["landmarks"].is_object())
     throw pipeline::bad_input(path, "no \"landmarks\" object");
   const auto& lm = j["landmarks"];

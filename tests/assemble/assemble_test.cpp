@@ -227,4 +227,16 @@ TEST(assemble_cli, bad_landmarks_give_one_error_line_exit_2_no_outputs) {
   ASSERT_EQ(err.size(), 1u);
   EXPECT_NE(err[0].find("bad_landmarks.json"), std::string::npos) << err[0];
   for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+  // A truncated materials file was once an internal error (exit 3) with nlohmann's exception tag.
+  const std::string bad_materials = (dir / "bad_materials.json").string();
+  pipeline::write_text_atomic(bad_materials, "{\"head\": [");
+  err.clear();
+  EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " +
+                          scene().landmarks_path + " --materials " + bad_materials + " --out " + out + " --deck1 " + d1 +
+                          " --deck2 " + d2,
+                      &err),
+            2);
+  ASSERT_EQ(err.size(), 1u);
+  EXPECT_NE(err[0].find("bad_materials.json: not valid JSON"), std::string::npos) << err[0];
+  for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
 }

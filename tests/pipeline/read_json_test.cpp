@@ -1,0 +1,52 @@
+// pipeline::read_json / parse_json: one bad-input error naming the file, without nlohmann's tag.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "pipeline/error.h"
+#include "pipeline/read_json.h"
+
+namespace {
+
+// The error's kind and message, or an empty message when nothing was thrown.
+pipeline::Error error_of(const std::string& path) {
+  try {
+    pipeline::read_json(path);
+  } catch (const pipeline::Error& e) {
+    return e;
+  }
+  return pipeline::Error(pipeline::ErrorKind::algorithm, "");
+}
+
+}  // namespace
+
+TEST(read_json, reads_a_document) {
+  const auto path = std::filesystem::temp_directory_path() / "read_json_good.json";
+  std::ofstream(path) << R"({"gap_mm": 3, "parts": ["chin"]})";
+  const nlohmann::json j = pipeline::read_json(path.string());
+  EXPECT_EQ(j.at("gap_mm").get<int>(), 3);
+  EXPECT_EQ(j.at("parts").at(0).get<std::string>(), "chin");
+  std::filesystem::remove(path);
+}
+
+TEST(read_json, missing_empty_and_malformed_files_are_bad_input_naming_the_file) {
+  const auto dir = std::filesystem::temp_directory_path() / "read_json_bad";
+  std::filesystem::create_directories(dir);
+  const std::string missing = (dir / "missing.json").string(), empty = (dir / "empty.json").string(),
+                    truncated = (dir / "truncated.json").string();
+  std::ofstream(empty) << " \n";
+  std::ofstream(truncated) << R"({"a": [1, 2)";
+  for (const std::string& path : {missing, empty, truncated}) {
+    const pipeline::Error e = error_of(path);
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input) << path;
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("json.exception"), std::string::npos) << e.what();
+  }
+  EXPECT_NE(std::string(error_of(empty).what()).find("empty JSON file"), std::string::npos);
+  EXPECT_NE(std::string(error_of(truncated).what()).find("not valid JSON: parse error at line 1"), std::string::npos)
+      << error_of(truncated).what();
+  EXPECT_THROW(pipeline::parse_json("[1,", "deck"), pipeline::Error);
+  std::filesystem::remove_all(dir);
+}
