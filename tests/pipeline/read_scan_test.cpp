@@ -80,3 +80,23 @@ TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
   std::string pbytes((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
   EXPECT_EQ(error_kind_of(tmp_file("cut.ply", pbytes.substr(0, pbytes.size() / 2))), pipeline::ErrorKind::bad_input);
 }
+
+// CGAL's text readers stop at "nan" as at a truncation; the error says which it was.
+TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  auto message_of = [](const std::string& path) -> std::string {
+    try {
+      pipeline::read_scan(path);
+    } catch (const pipeline::Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string nan_ply = tmp_file("nan_ascii.ply", header + "0 0 0\n100 0 0\n0 NaN 0\n3 0 1 2\n");
+  EXPECT_EQ(message_of(nan_ply), nan_ply + ": line 12: a coordinate is NaN or infinite");
+  const std::string inf_off = tmp_file("inf.off", "OFF\n3 1 0\n0 0 0\n-inf 0 0\n0 100 0\n3 0 1 2\n");
+  EXPECT_EQ(message_of(inf_off), inf_off + ": line 4: a coordinate is NaN or infinite");
+  const std::string cut_ply = tmp_file("cut_ascii.ply", header + "0 0 0\n100 0 0\n");
+  EXPECT_EQ(message_of(cut_ply), cut_ply + ": unreadable or truncated PLY");
+}
