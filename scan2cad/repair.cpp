@@ -92,6 +92,14 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
     r.symmetry = complete_fills_by_symmetry(mesh, fills, opt.symmetry);
     r.symmetric_completion_run = true;
   }
+  // A flat patch given as a head is closed by a copy of itself: two coincident sheets with nothing
+  // inside, on which CGAL 5.5's isotropic remeshing crashes (one triangle did). A head, a sphere
+  // (0.094) or a face-only scan closed flat encloses far more than this fraction of area^1.5.
+  if (kind == ScanKind::head && CGAL::is_closed(mesh)) {
+    const double area_mm2 = PMP::area(mesh);
+    if (std::abs(PMP::volume(mesh)) < 1e-3 * std::pow(area_mm2, 1.5))
+      throw pipeline::bad_input("mesh", "encloses no volume once its holes are filled: a flat patch, not a head");
+  }
 
   // 6. Relaxation: mean-curvature flow, then isotropic remeshing.
   if (opt.smoothing_iterations > 0) {

@@ -115,6 +115,17 @@ TEST(repair_cli, truncated_binary_stl_is_rejected) {
   expect_rejected("repair", write("cut_r.stl", b.substr(0, b.size() / 3)), "");
 }
 
+// A flat patch given as a head was closed into two coincident sheets, and CGAL's remeshing then
+// crashed (exit 139, no message).
+TEST(repair_cli, a_single_triangle_as_a_head_is_rejected) {
+  expect_rejected("repair", write("triangle.off", "OFF\n3 1 0\n0 0 0\n200 0 0\n0 200 0\n3 0 1 2\n"), "flat patch");
+}
+
+TEST(repair_cli, a_flat_square_as_a_head_is_rejected) {
+  expect_rejected("repair", write("square.off", "OFF\n4 2 0\n0 0 0\n200 0 0\n200 200 0\n0 200 0\n3 0 1 2\n3 0 2 3\n"),
+                  "flat patch");
+}
+
 TEST(repair_cli, point_cloud_is_rejected) {
   expect_rejected("repair", write("cloud.xyz", "0 0 0\n200 0 0\n0 200 0\n0 0 200\n"), "point cloud");
 }
