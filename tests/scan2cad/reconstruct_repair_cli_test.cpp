@@ -97,6 +97,22 @@ TEST(reconstruct_cli, three_points_are_rejected) {
   expect_rejected("reconstruct", write("three.xyz", "0 0 0\n200 0 0\n0 200 0\n"), "too few");
 }
 
+// CGAL's Poisson crashed (SIGSEGV) on points on a plane or a line, and did not finish contouring
+// a plane with 0.001 mm of noise.
+TEST(reconstruct_cli, points_on_a_plane_or_a_line_are_rejected) {
+  std::string plane, noisy_plane, line;
+  generator::Rng rng{5};
+  for (int i = 0; i < 2000; ++i) {
+    const double x = rng.uniform() * 200, y = rng.uniform() * 200;
+    plane += std::to_string(x) + " " + std::to_string(y) + " 0\n";
+    noisy_plane += std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(0.3 * rng.normal()) + "\n";
+    line += std::to_string(x) + " 0 0\n";
+  }
+  expect_rejected("reconstruct", write("plane.xyz", plane), "on a plane or a line");
+  expect_rejected("reconstruct", write("noisy_plane.xyz", noisy_plane), "on a plane or a line");
+  expect_rejected("reconstruct", write("line.xyz", line), "on a plane or a line");
+}
+
 TEST(reconstruct_cli, truncated_binary_ply_is_rejected) {
   const std::string full = (dir / "full.ply").string();
   fs::create_directories(dir);
