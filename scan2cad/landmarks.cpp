@@ -22,6 +22,13 @@ static double dist(const Landmarks& l, const char* a, const char* b) {
 double face_length(const Landmarks& l) { return dist(l, "menton", "sellion"); }
 double face_width(const Landmarks& l) { return dist(l, "zygion_left", "zygion_right"); }
 
+std::vector<std::string> guessed_landmarks(const Landmarks& l, double below) {
+  std::vector<std::string> guessed;
+  for (const auto& [name, p] : l.points)
+    if (p.confidence < below) guessed.push_back(name);
+  return guessed;
+}
+
 std::string landmarks_json(const Landmarks& l) {
   nlohmann::json j;
   j["frame"] = "x lateral (+x = subject's left), y up, z out of the face; mm";

@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
     if (user.empty()) {
       progress.step("detecting");
       l = scan2cad::detect_landmarks(head);
+      for (const std::string& name : scan2cad::guessed_landmarks(l))
+        std::fprintf(stderr, "landmarks: warning: %s is a guess (confidence %.2f, no clear feature): check %s or give --user\n",
+                     name.c_str(), l.points.at(name).confidence, out.c_str());
     } else {
       l = scan2cad::read_landmarks(user);
       scan2cad::check_landmarks_on_surface(l, head, user);

@@ -1,6 +1,7 @@
 // detect_landmarks on the aligned NIOSH medium and large headforms; read_landmarks validation.
 #include <gtest/gtest.h>
 
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "pipeline/error.h"
 #include "scan2cad/align.h"
 #include "scan2cad/landmarks.h"
+#include "../scan2cad/test_meshes.h"
 
 namespace {
 
@@ -97,6 +99,17 @@ TEST(detect_landmarks, every_landmark_stable_under_remeshing) {
       EXPECT_LE(worst.at(name), 1.0) << file << " " << name;
     }
   }
+}
+
+// A sphere has no nasal root: its sellion is a guess, and said to be; the NIOSH heads have none.
+TEST(guessed_landmarks, the_sellion_of_a_sphere_but_nothing_on_the_niosh_heads) {
+  pipeline::SurfaceMesh sphere;
+  const auto soup = test_meshes::sphere_soup(80.0, 60);
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(soup.points, soup.polygons, sphere);
+  const auto on_sphere = scan2cad::guessed_landmarks(scan2cad::detect_landmarks(sphere));
+  EXPECT_NE(std::find(on_sphere.begin(), on_sphere.end(), "sellion"), on_sphere.end());
+  for (const char* name : {"NIOSH_medium_20k.stl", "NIOSH_large_20k.stl"})
+    EXPECT_TRUE(scan2cad::guessed_landmarks(scan2cad::detect_landmarks(aligned_head(name))).empty()) << name;
 }
 
 TEST(read_landmarks, rejects_a_left_point_on_the_right) {
