@@ -121,6 +121,12 @@ TEST(solve_cli, bad_deck_one_error_line_no_results) {
   EXPECT_EQ(c.solve("bad3.json", "out"), 2);
   EXPECT_NE(c.read("err.txt").find("nope"), std::string::npos);
   EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+  // An absurd end time ran for ever (and overflowed the step count of the progress line).
+  c.write("bad4.json", deck(1e300));
+  EXPECT_EQ(c.solve("bad4.json", "out4"), 2);
+  EXPECT_FALSE(fs::exists(c.dir + "/out4"));
+  EXPECT_NE(c.read("err.txt").find("bad4.json: control.end_time 1e+300 ms needs"), std::string::npos) << c.read("err.txt");
+  EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
 }
 
 TEST(solve_cli, bad_msh_one_error_line_no_results) {
