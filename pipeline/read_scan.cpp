@@ -58,23 +58,33 @@ std::string first_bytes(const std::string& path, std::size_t n) {
 // Why a text mesh that CGAL's reader refused is unusable. CGAL reads numbers with
 // istream >> double, which stops at "nan" and "inf" as at a truncation, so a scanner's NaN
 // (organised point clouds mark missing returns with it) would otherwise be reported as a
-// truncated file. `what` is "PLY" or "OFF"; the tokens after the first line are looked at.
-std::string why_text_unreadable(const std::string& path, const std::string& what) {
+// truncated file. `what` is "PLY" or "OFF". Whole words are looked at, from the word
+// `body_after` on (PLY: "end_header", so a comment in the header cannot match) or from the
+// second line (OFF: nullptr).
+std::string why_text_unreadable(const std::string& path, const std::string& what, const char* body_after) {
   std::ifstream in(path, std::ios::binary);
-  std::string token;
-  std::getline(in, token);
+  std::string word;
+  std::getline(in, word);
   std::size_t line = 2;  // the first line was just read
-  for (char c; in.get(c);) {
-    if (c == '\n') ++line;
-    if (std::isspace(static_cast<unsigned char>(c))) {
-      token.clear();
+  bool in_body = body_after == nullptr;
+  auto non_finite = [](std::string w) {
+    if (!w.empty() && (w[0] == '-' || w[0] == '+')) w.erase(0, 1);
+    return w == "nan" || w == "inf" || w == "infinity" || w.rfind("nan(", 0) == 0;
+  };
+  word.clear();
+  for (char c; in.get(c) || !word.empty();) {
+    if (!in || std::isspace(static_cast<unsigned char>(c))) {
+      if (!in_body) {
+        in_body = word == body_after;
+      } else if (non_finite(word)) {
+        return "line " + std::to_string(line) + ": a coordinate is NaN or infinite";
+      }
+      word.clear();
+      if (!in) break;
+      if (c == '\n') ++line;
       continue;
     }
-    token.push_back(char(std::tolower(static_cast<unsigned char>(c))));
-    const std::size_t start = token[0] == '-' || token[0] == '+' ? 1 : 0;
-    if (token.compare(start, std::string::npos, "nan") == 0 || token.compare(start, std::string::npos, "inf") == 0)
-      return "line " + std::to_string(line) + ": a coordinate is NaN or infinite";
-    if (token.size() > 64) token.clear();  // binary data: no word to find
+    if (word.size() < 64) word.push_back(char(std::tolower(static_cast<unsigned char>(c))));  // binary: never a word
   }
   return "unreadable or truncated " + what;
 }
@@ -118,7 +128,7 @@ void read_ply(const std::string& path, Scan& scan) {
   std::ifstream in(path, std::ios::binary);
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
-  if (!CGAL::IO::read_PLY(in, pts, polys)) throw bad_input(path, why_text_unreadable(path, "PLY"));
+  if (!CGAL::IO::read_PLY(in, pts, polys)) throw bad_input(path, why_text_unreadable(path, "PLY", "end_header"));
   if (!polys.empty()) {
     scan.is_mesh = true;
     scan.soup.points = std::move(pts);
@@ -132,7 +142,7 @@ void read_ply(const std::string& path, Scan& scan) {
   if (!CGAL::IO::read_PLY(in2, std::back_inserter(pn),
                           CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
                               .normal_map(CGAL::Second_of_pair_property_map<PN>())))
-    throw bad_input(path, why_text_unreadable(path, "PLY point set"));
+    throw bad_input(path, why_text_unreadable(path, "PLY point set", "end_header"));
   bool has_normals = false;
   for (const auto& p : pn) has_normals |= p.second.squared_length() > 0;
   for (const auto& p : pn) {
@@ -147,7 +157,7 @@ void read_off(const std::string& path, Scan& scan) {
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
   std::ifstream in(path);
-  if (!CGAL::IO::read_OFF(in, pts, polys)) throw bad_input(path, why_text_unreadable(path, "OFF"));
+  if (!CGAL::IO::read_OFF(in, pts, polys)) throw bad_input(path, why_text_unreadable(path, "OFF", nullptr));
   if (polys.empty()) {
     scan.cloud.points = std::move(pts);
   } else {

@@ -99,4 +99,10 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
   EXPECT_EQ(message_of(inf_off), inf_off + ": line 4: a coordinate is NaN or infinite");
   const std::string cut_ply = tmp_file("cut_ascii.ply", header + "0 0 0\n100 0 0\n");
   EXPECT_EQ(message_of(cut_ply), cut_ply + ": unreadable or truncated PLY");
+  // a header comment with "inf" in it is not a coordinate
+  const std::string commented = tmp_file("commented.ply", "ply\nformat ascii 1.0\ncomment inf nan information\n" +
+                                                              header.substr(header.find("element")) + "0 0 0\n100 0 0\n");
+  EXPECT_EQ(message_of(commented), commented + ": unreadable or truncated PLY");
+  const std::string last_word = tmp_file("nan_at_end.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 nan");
+  EXPECT_EQ(message_of(last_word), last_word + ": line 5: a coordinate is NaN or infinite");
 }
