@@ -67,12 +67,12 @@ using NormalMap = CGAL::Second_of_pair_property_map<PN>;
 constexpr std::size_t min_points = 100;
 
 // Standard deviations [mm] of the points along their three principal axes, smallest first.
-Eigen::Vector3d principal_spreads_mm(const std::vector<Point>& points) {
+Eigen::Vector3d principal_spreads_mm(const std::vector<PN>& points) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Point& p : points) mean += Eigen::Vector3d(p.x(), p.y(), p.z());
+  for (const auto& [p, n] : points) mean += Eigen::Vector3d(p.x(), p.y(), p.z());
   mean /= double(points.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Point& p : points) {
+  for (const auto& [p, n] : points) {
     const Eigen::Vector3d d = Eigen::Vector3d(p.x(), p.y(), p.z()) - mean;
     cov += d * d.transpose();
   }
@@ -520,17 +520,6 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     throw pipeline::bad_input("point cloud", std::to_string(cloud.points.size()) +
                                                  " points are too few to define a surface, expected at least " +
                                                  std::to_string(min_points));
-  // Points on a plane or a line: CGAL 5.5's Poisson crashes when its Delaunay triangulation is
-  // flat and never finishes contouring when it is nearly so (a plane with 0.001 mm of noise ran
-  // for over 5 minutes). Across its thinnest axis a head spreads 0.64 times as far as along its
-  // longest (NIOSH medium) and a generated cup 0.48 times; a noisy plane is under a fiftieth.
-  const Eigen::Vector3d spread_mm = principal_spreads_mm(cloud.points);
-  if (spread_mm[0] < 0.02 * spread_mm[2]) {
-    char what[160];
-    std::snprintf(what, sizeof what, "the points lie on a plane or a line (spread %.3f mm across it, %.1f mm along it)",
-                  spread_mm[0], spread_mm[2]);
-    throw pipeline::bad_input("point cloud", std::string(what) + ": a flat patch, not a head or a respirator");
-  }
   const bool has_normals = cloud.normals.size() == cloud.points.size();
   std::vector<PN> pn(cloud.points.size());
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i] = {cloud.points[i], has_normals ? cloud.normals[i] : Vector(0, 0, 0)};
@@ -574,6 +563,18 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     throw pipeline::bad_input("point cloud", "only " + std::to_string(pn.size()) +
                                                  " points left after outlier removal, expected at least " +
                                                  std::to_string(min_points));
+  // Points on a plane or a line: CGAL 5.5's Poisson crashes when its Delaunay triangulation is
+  // flat and never finishes contouring when it is nearly so (a plane with 0.001 mm of noise ran
+  // for over 5 minutes). Across its thinnest axis a head spreads 0.64 times as far as along its
+  // longest (NIOSH medium) and a generated cup 0.48 times; a noisy plane is under a fiftieth.
+  // Checked after the outlier removal: 1 % of outliers in a box would hide a plane.
+  const Eigen::Vector3d spread_mm = principal_spreads_mm(pn);
+  if (spread_mm[0] < 0.02 * spread_mm[2]) {
+    char what[160];
+    std::snprintf(what, sizeof what, "the points lie on a plane or a line (spread %.3f mm across it, %.1f mm along it)",
+                  spread_mm[0], spread_mm[2]);
+    throw pipeline::bad_input("point cloud", std::string(what) + ": a flat patch, not a head or a respirator");
+  }
 
   // 3. Denoise and remove spikes (jet_smooth_and_despike). A thin respirator shell is
   //    smoothed side by side in step 4 instead (its neighbourhoods span both sides).

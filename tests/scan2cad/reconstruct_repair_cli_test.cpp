@@ -98,7 +98,7 @@ TEST(reconstruct_cli, three_points_are_rejected) {
 }
 
 // CGAL's Poisson crashed (SIGSEGV) on points on a plane or a line, and did not finish contouring
-// a plane with 0.001 mm of noise.
+// a plane with 0.001 mm of noise; outliers must not hide the plane.
 TEST(reconstruct_cli, points_on_a_plane_or_a_line_are_rejected) {
   std::string plane, noisy_plane, line;
   generator::Rng rng{5};
@@ -108,9 +108,14 @@ TEST(reconstruct_cli, points_on_a_plane_or_a_line_are_rejected) {
     noisy_plane += std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(0.3 * rng.normal()) + "\n";
     line += std::to_string(x) + " 0 0\n";
   }
+  std::string with_outliers = noisy_plane;  // 1 %, in the plane's 200 mm box
+  for (int i = 0; i < 20; ++i)
+    with_outliers += std::to_string(rng.uniform() * 200) + " " + std::to_string(rng.uniform() * 200) + " " +
+                     std::to_string(rng.uniform() * 200 - 100) + "\n";
   expect_rejected("reconstruct", write("plane.xyz", plane), "on a plane or a line");
   expect_rejected("reconstruct", write("noisy_plane.xyz", noisy_plane), "on a plane or a line");
   expect_rejected("reconstruct", write("line.xyz", line), "on a plane or a line");
+  expect_rejected("reconstruct", write("plane_with_outliers.xyz", with_outliers), "on a plane or a line");
 }
 
 TEST(reconstruct_cli, truncated_binary_ply_is_rejected) {
