@@ -490,6 +490,15 @@ pipeline::ScanReadOptions KindAndUnitOptions::read_options() const {
   read.expected_size_mm = expected_size_mm(kind());
   return read;
 }
+std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const {
+  const bool detected = pipeline::parse_unit(unit_name) == pipeline::Unit::automatic;
+  const double extent_mm = pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points);
+  char line[200];
+  std::snprintf(line, sizeof line, "unit %s (%s): largest extent %.1f mm (a %s is about %.0f)",
+                pipeline::unit_name(scan.unit).c_str(), detected ? "detected, --unit forces one" : "forced",
+                extent_mm, kind_name.c_str(), expected_size_mm(kind()));
+  return line;
+}
 
 ReconstructMethod parse_reconstruct_method(const std::string& name, ScanKind kind) {
   // respirators: the inner side of the cup is an open sheet (orient_thin_shell), which

@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
+    pipeline::log("reconstruct", in + ": " + kind_unit.describe_unit(scan));
     // 3. Meshes pass through unchanged (repair handles soups), clouds are reconstructed
     if (scan.is_mesh) {
       pipeline::log("reconstruct", in + ": is a mesh (" + std::to_string(scan.soup.polygons.size()) +

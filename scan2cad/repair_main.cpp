@@ -10,6 +10,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
+#include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/repair.h"
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
+    pipeline::log("repair", in + ": " + kind_unit.describe_unit(scan));
     if (!scan.is_mesh)
       throw pipeline::bad_input(in, "is a point cloud without faces, expected a mesh (run reconstruct first)");
     // 3. Repair

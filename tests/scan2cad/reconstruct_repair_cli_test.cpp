@@ -16,6 +16,7 @@
 #include "data/generator/scanner_artifacts.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
+#include "scan2cad/reconstruct.h"
 
 namespace fs = std::filesystem;
 
@@ -162,6 +163,27 @@ TEST(reconstruct_cli, a_scan_in_metres_comes_out_in_mm) {
   // the NIOSH medium headform is 285.7 mm at its largest; the reconstruction of its samples
   // is within 2 mm of that (Poisson smooths the neck corners by about the point spacing)
   EXPECT_NEAR(pipeline::largest_extent(mesh.soup.points), 285.7, 2.0);
+  EXPECT_NE(r.err.find(in + ": unit m (detected, --unit forces one): largest extent 285."), std::string::npos) << r.err;
+}
+
+// A head in inches is read as cm, 2.54 times too small: both sizes are plausible. The log line
+// says which unit was taken and the size it gives, and --unit in reads it right.
+TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
+  const std::string in = (dir / "niosh_in.ply").string();
+  {
+    auto soup = pipeline::read_scan(niosh_medium).soup;
+    for (auto& p : soup.points) p = pipeline::Point(p.x() / 25.4, p.y() / 25.4, p.z() / 25.4);
+    scan2cad::write_soup_ply(in, soup);
+  }
+  const std::string out = (dir / "niosh_in_rep.ply").string();
+  const CliRun guessed = run("repair --in " + in + " --kind head --edge 4 --out " + out);
+  ASSERT_EQ(guessed.code, 0) << guessed.err;
+  EXPECT_NE(guessed.err.find(in + ": unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)"),
+            std::string::npos)
+      << guessed.err;
+  const CliRun forced = run("repair --in " + in + " --kind head --unit in --edge 4 --out " + out);
+  ASSERT_EQ(forced.code, 0) << forced.err;
+  EXPECT_NE(forced.err.find(in + ": unit in (forced): largest extent 285.7 mm"), std::string::npos) << forced.err;
 }
 
 TEST(reconstruct_cli, a_mesh_passes_through_unchanged) {
