@@ -295,6 +295,13 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
     if (hit_mm[f] <= pair_limit_mm && normal[f] * normal[partner[f]] < -0.7) is_paired[f] = 1, ++paired;
   // A thin shell has most faces paired; otherwise the input is taken as a single open sheet.
   const bool thin_shell = wall_mm > 0 && paired > nf / 2;
+  // A closed solid pairs its faces too, across its whole depth: a head given as a respirator
+  // (NIOSH medium: 152 mm) would be cut in half and layered as a 150 mm "wall". Respirator walls
+  // are a few mm (the Flex face seal 0.85-3 mm; the generated cups are single sheets).
+  constexpr double max_wall_mm = 20;
+  if (thin_shell && wall_mm > max_wall_mm)
+    throw pipeline::bad_input("respirator", "its two sheets are " + std::to_string(int(std::lround(wall_mm))) +
+                                                " mm apart, more than a respirator's wall of a few mm: is it a head?");
   // 3. Inner faces. On a thin shell: of a face and its partner, the one that faces the cavity,
   //    i.e. sees more of the shell around it (share of 24 rays spread over the hemisphere of its
   //    normal that hit the shell): the inside of a cup, funnel or tray is enclosed, the outside

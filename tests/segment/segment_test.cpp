@@ -88,6 +88,19 @@ TEST(segment_cli, writes_labelled_ply_and_rejects_bad_input) {
   EXPECT_FALSE(fs::exists(bad));
 }
 
+// A head given as a respirator was taken as a 152 mm thick shell and cut in half.
+TEST(segment_cli, a_head_given_as_a_respirator_is_rejected_naming_the_file) {
+  const std::string ply = niosh_medium_ply();
+  const std::string dir = fs::path(ply).parent_path(), out = dir + "/head_as_respirator.ply", err = dir + "/err.txt";
+  const int rc = std::system((std::string(BIN_DIR) + "/segment --in " + ply + " --kind respirator --out " + out + " 2> " + err).c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  std::ifstream in(err);
+  std::string line, last;
+  while (std::getline(in, line)) last = line;
+  EXPECT_EQ(last.rfind("segment: " + ply + ": respirator: its two sheets are 152 mm apart", 0), 0u) << last;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 namespace {
 
 // A 20 mm cube, 12 triangles, two per face, labelled with the five parts and back_of_head again.
