@@ -39,12 +39,10 @@ int main(int argc, char** argv) {
     progress.step("segmenting " + std::to_string(mesh.number_of_faces()) + " faces");
     std::vector<layering::PartStats> stats;
     layering::RespiratorSegmentInfo info;
-    try {  // the library names what it was given ("respirator: ..."); the user needs the file
+    pipeline::naming_file(in, [&] {
       if (kind == "head") stats = layering::segment_head(mesh, lm);
       else stats.push_back(layering::segment_respirator(mesh, &info));
-    } catch (const pipeline::Error& e) {
-      throw pipeline::Error(e.kind, in + ": " + e.what());
-    }
+    });
     if (kind == "respirator") {
       char line[200];
       std::snprintf(line, sizeof line, "%s, wall %.2f mm, %.0f %% of the faces paired across the wall",

@@ -41,7 +41,9 @@ int main(int argc, char** argv) {
     } session;
     progress.step("meshing");
     std::size_t total = 0;
-    for (const auto& p : meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma)) {
+    const auto parts =
+        pipeline::naming_file(in, [&] { return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma); });
+    for (const auto& p : parts) {
       char line[160];
       std::snprintf(line, sizeof line, "%-16s %6zu triangles  gamma min %.3f mean %.3f", p.name.c_str(), p.triangles,
                     p.min_gamma, p.mean_gamma);

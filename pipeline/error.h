@@ -31,4 +31,16 @@ inline Error io_failed(const std::string& what, const std::string& problem) {
   return Error(ErrorKind::io, what + ": " + problem);
 }
 
+/// Runs f() and returns what it returns; a pipeline::Error it throws is re-thrown with "path: "
+/// in front. Library functions name what they were given ("respirator: ..."); a stage wraps
+/// its calls on a file's contents in this so the user's error line also names the file.
+template <class F>
+auto naming_file(const std::string& path, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const Error& e) {
+    throw Error(e.kind, path + ": " + e.what());
+  }
+}
+
 }  // namespace pipeline

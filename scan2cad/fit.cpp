@@ -12,6 +12,7 @@
 #include <gmsh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -120,15 +121,24 @@ std::string fit_part_name(int label, const std::string& kind) {
 
 void check_parts(const SurfaceMesh& mesh, const std::string& kind) {
   auto found = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property);
-  if (!found.second) throw pipeline::bad_input("fit", "no face property \"part\" (run segment first)");
+  if (!found.second) throw pipeline::bad_input("parts", "no face property \"part\" (run segment first)");
+  std::array<bool, 5> present{};
   for (auto f : mesh.faces()) {
     const int l = found.first[f];
     if (kind == "head" ? (l < 0 || l > 4) : l != 0)
-      throw pipeline::bad_input("fit", "face " + std::to_string(std::size_t(f)) + " has part " +
-                                           std::to_string(l) + ", not a " + kind + " part label");
+      throw pipeline::bad_input("parts", "face " + std::to_string(std::size_t(f)) + " has part " +
+                                             std::to_string(l) + ", not a " + kind + " part label");
     if (mesh.degree(f) != 3)
-      throw pipeline::bad_input("fit", "face " + std::to_string(std::size_t(f)) + " is not a triangle");
+      throw pipeline::bad_input("parts", "face " + std::to_string(std::size_t(f)) + " is not a triangle");
+    present[std::size_t(l)] = true;
   }
+  // A respirator's single part has the label of a head's back_of_head: given as a head, it was
+  // fitted and meshed as a head with no face.
+  if (kind == "head")
+    for (int l = 0; l < 5; ++l)
+      if (!present[std::size_t(l)])
+        throw pipeline::bad_input("parts", std::string("no face of part ") + head_names[l] +
+                                               ": a segmented head has all five (is this a respirator?)");
 }
 
 SurfaceMesh remesh_parts(const SurfaceMesh& input, const std::string& kind, double edge_mm, double back_edge_mm) {

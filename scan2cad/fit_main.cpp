@@ -42,7 +42,8 @@ int main(int argc, char** argv) {
     // 2. Fit
     progress.step("remeshing the parts");
     std::size_t refined_faces = 0;
-    const pipeline::SurfaceMesh fitted = scan2cad::fit_parts(mesh, kind, edge_mm, refine_above_mm, &refined_faces);
+    const pipeline::SurfaceMesh fitted = pipeline::naming_file(
+        in, [&] { return scan2cad::fit_parts(mesh, kind, edge_mm, refine_above_mm, &refined_faces); });
     if (refined_faces > 0)
       pipeline::log("fit", "refined at " + std::to_string(edge_mm / 2) + " mm: " + std::to_string(refined_faces) +
                                " input faces where the uniform fit missed by more than " + std::to_string(refine_above_mm) + " mm");

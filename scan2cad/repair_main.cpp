@@ -46,12 +46,8 @@ int main(int argc, char** argv) {
       throw pipeline::bad_input(in, "is a point cloud without faces, expected a mesh (run reconstruct first)");
     // 3. Repair
     scan2cad::RepairReport report;
-    pipeline::SurfaceMesh mesh;
-    try {
-      mesh = scan2cad::repair(scan.soup, kind, opt, &report);
-    } catch (const pipeline::Error& e) {
-      throw pipeline::Error(e.kind, in + ": " + e.what());
-    }
+    const pipeline::SurfaceMesh mesh =
+        pipeline::naming_file(in, [&] { return scan2cad::repair(scan.soup, kind, opt, &report); });
     // 4. Write
     pipeline::write_surface_mesh(out, mesh);
     if (!report_path.empty()) pipeline::write_text_atomic(report_path, report.to_json().dump(2) + "\n");

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -71,6 +72,19 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_input) {
   // No "part" property: bad input (exit 2), no output file.
   const std::string bad = (dir / "bad.ply").string();
   EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + plain + " --out " + bad + " 2>/dev/null").c_str())), 2);
+  EXPECT_FALSE(fs::exists(bad));
+  // Only part 0, which is a respirator's label (and a head's back_of_head): a head with no face
+  // was fitted; now one line names the file and the missing part, exit 2.
+  pipeline::SurfaceMesh one_part = segmented_medium();
+  auto part = one_part.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  for (auto f : one_part.faces()) part[f] = 0;
+  const std::string respirator_like = (dir / "one_part.ply").string(), err = (dir / "err.txt").string();
+  pipeline::write_surface_mesh(respirator_like, one_part);
+  EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + respirator_like + " --kind head --out " + bad + " 2>" + err).c_str())), 2);
+  std::ifstream in(err);
+  std::string line, last;
+  while (std::getline(in, line)) last = line;
+  EXPECT_EQ(last, "fit: " + respirator_like + ": parts: no face of part forehead: a segmented head has all five (is this a respirator?)");
   EXPECT_FALSE(fs::exists(bad));
   fs::remove_all(dir);
 }
