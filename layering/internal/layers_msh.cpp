@@ -141,9 +141,13 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
   auto parse_stack = [&](const nlohmann::json& a, const std::string& where) {
     Stack s;
     if (!a.is_array() || a.empty()) throw pipeline::bad_input(materials_json, where + ": expected [[material, mm], ...]");
+    // The thickest soft tissue over the face is about 20 mm (cheek fat and muscle); a layer over
+    // 50 mm is a unit slip (cm, m) and was layered as columns thinned a millionfold.
+    constexpr double max_layer_mm = 50;
     for (const auto& l : a) {
-      if (!l.is_array() || l.size() != 2 || !l[0].is_string() || !l[1].is_number() || l[1].get<double>() <= 0)
-        throw pipeline::bad_input(materials_json, where + ": bad layer " + l.dump() + ", expected [material, mm > 0]");
+      if (!l.is_array() || l.size() != 2 || !l[0].is_string() || !l[1].is_number() || !(l[1].get<double>() > 0) ||
+          l[1].get<double>() > max_layer_mm)
+        throw pipeline::bad_input(materials_json, where + ": bad layer " + l.dump() + ", expected [material, 0 < mm <= 50]");
       const std::string mat = l[0];
       if (!j.contains("materials") || !j["materials"].contains(mat))
         throw pipeline::bad_input(materials_json, where + ": material '" + mat + "' not in \"materials\"");

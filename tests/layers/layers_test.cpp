@@ -13,6 +13,7 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
+#include <nlohmann/json.hpp>
 
 #include "layering/internal/layers_columns.h"
 #include "layering/internal/segment_landmarks.h"
@@ -20,6 +21,8 @@
 #include "layering/segment.h"
 #include "check_head_layers.h"
 #include "layers_fixtures.h"
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 
 namespace {
@@ -225,4 +228,26 @@ TEST(layers_cli, empty_or_truncated_msh_exits_2_with_one_line_naming_it) {
     EXPECT_FALSE(std::filesystem::exists(out)) << name;
   }
   std::filesystem::remove_all(dir);
+}
+
+// Layer thicknesses: none, negative, and in the wrong unit (a 1 m skin was layered as columns
+// thinned a millionfold) are bad input naming the file and the part.
+TEST(read_stacks, rejects_absurd_layer_thicknesses) {
+  const nlohmann::json good = nlohmann::json::parse(pipeline::read_text(kMaterials));
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / ("read_stacks_" + std::to_string(::getpid()) + ".json");
+  for (const double mm : {0.0, -3.0, 1000.0}) {
+    nlohmann::json bad = good;
+    bad["head_layers_mm"]["forehead"][0][1] = mm;
+    pipeline::write_text_atomic(path.string(), bad.dump());
+    try {
+      layering::read_stacks(path.string(), "head");
+      ADD_FAILURE() << mm << " mm accepted";
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      EXPECT_NE(std::string(e.what()).find(path.string() + ": head_layers_mm.forehead: bad layer"), std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_NO_THROW(layering::read_stacks(kMaterials, "head"));
+  std::filesystem::remove(path);
 }
