@@ -244,6 +244,11 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   auto& pts = scan.is_mesh ? scan.soup.points : scan.cloud.points;
   if (pts.empty()) throw bad_input(path, "no points in file");
   check_finite(pts, path);
+  for (std::size_t i = 0; i < scan.cloud.normals.size(); ++i) {
+    const Vector& n = scan.cloud.normals[i];
+    if (!std::isfinite(n.x()) || !std::isfinite(n.y()) || !std::isfinite(n.z()))
+      throw bad_input(path, "point " + std::to_string(i) + " has a non-finite (NaN or infinite) normal");
+  }
   for (const auto& poly : scan.soup.polygons)
     for (std::size_t i : poly)
       if (i >= pts.size()) throw bad_input(path, "face refers to vertex " + std::to_string(i) + " of " + std::to_string(pts.size()));

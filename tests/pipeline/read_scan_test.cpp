@@ -1,6 +1,7 @@
 // read_scan on the real NIOSH headform and on small files with known defects.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -105,4 +106,24 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
   EXPECT_EQ(message_of(commented), commented + ": unreadable or truncated PLY");
   const std::string last_word = tmp_file("nan_at_end.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 nan");
   EXPECT_EQ(message_of(last_word), last_word + ": line 5: a coordinate is NaN or infinite");
+}
+
+// A NaN normal reached Poisson, which failed as an algorithm error ("normals inconsistent?").
+TEST(read_scan, a_nan_normal_is_bad_input_naming_the_point) {
+  pipeline::PointCloud c;
+  for (int i = 0; i < 200; ++i) {
+    c.points.emplace_back(i * 1.0, (i % 10) * 20.0, (i % 7) * 30.0);
+    c.normals.emplace_back(0, 0, 1);
+  }
+  c.normals[17] = pipeline::Vector(0, std::nan(""), 1);
+  const std::string ply = (fs::temp_directory_path() / "rf_read_scan" / "nan_normal.ply").string();
+  fs::create_directories(fs::path(ply).parent_path());
+  pipeline::write_point_cloud(ply, c);
+  try {
+    pipeline::read_scan(ply);
+    ADD_FAILURE() << "no error";
+  } catch (const pipeline::Error& e) {
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+    EXPECT_EQ(std::string(e.what()), ply + ": point 17 has a non-finite (NaN or infinite) normal");
+  }
 }
