@@ -529,7 +529,15 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     throw pipeline::bad_input("point cloud", std::to_string(cloud.points.size()) +
                                                  " points are too few to define a surface, expected at least " +
                                                  std::to_string(min_points));
-  const bool has_normals = cloud.normals.size() == cloud.points.size();
+  // A scan's normals are used only when every point has one: points without one (read as zero
+  // vectors) went into Poisson as they were. Otherwise all are estimated from the points.
+  std::size_t zero_normals = 0;
+  if (cloud.normals.size() == cloud.points.size())
+    for (const Vector& n : cloud.normals) zero_normals += n.squared_length() < 1e-12;
+  const bool has_normals = cloud.normals.size() == cloud.points.size() && zero_normals == 0;
+  if (zero_normals > 0)
+    pipeline::log("reconstruct", std::to_string(zero_normals) + " of " + std::to_string(cloud.points.size()) +
+                                     " points have no normal: all normals are estimated from the points instead");
   std::vector<PN> pn(cloud.points.size());
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i] = {cloud.points[i], has_normals ? cloud.normals[i] : Vector(0, 0, 0)};
   const unsigned k = unsigned(opt.neighbors);

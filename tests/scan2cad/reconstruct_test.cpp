@@ -61,6 +61,20 @@ TEST(reconstruct, poisson_gives_a_closed_outward_sphere_within_the_noise) {
   EXPECT_NEAR(vol, 4.0 / 3.0 * std::acos(-1.0) * 125000.0, 0.02 * 523599.0);
 }
 
+// Normals on every other point only (the rest read as zero vectors): they all are estimated, and
+// the sphere comes out as without normals, not as Poisson made it with the zero ones.
+TEST(reconstruct, normals_on_some_points_only_are_all_estimated) {
+  auto cloud = noisy_sphere(50, 20000, 0.2, 0.0);
+  cloud.normals.clear();
+  for (std::size_t i = 0; i < cloud.points.size(); ++i)
+    cloud.normals.push_back(i % 2 ? pipeline::Vector(0, 0, 0) : (cloud.points[i] - CGAL::ORIGIN) / 50.0);
+  scan2cad::ReconstructStats st;
+  const auto m = scan2cad::reconstruct(cloud, scan2cad::ScanKind::head, {}, &st);
+  EXPECT_TRUE(st.normals_estimated);
+  EXPECT_TRUE(CGAL::is_closed(m));
+  EXPECT_LT(test_meshes::max_radial_error(m, 50), 1.0);
+}
+
 TEST(reconstruct, advancing_front_interpolates_a_clean_sphere) {
   const auto cloud = noisy_sphere(50, 20000, 0.0, 0.0);
   scan2cad::ReconstructOptions opt;
