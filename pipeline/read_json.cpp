@@ -10,10 +10,14 @@ nlohmann::json parse_json(const std::string& text, const std::string& name) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
-    const std::string what = e.what();
-    const auto tag_end = what.find("] ");
-    throw bad_input(name, "not valid JSON: " + (tag_end == std::string::npos ? what : what.substr(tag_end + 2)));
+    throw bad_input(name, "not valid JSON: " + json_error_text(e));
   }
+}
+
+std::string json_error_text(const nlohmann::json::exception& e) {
+  const std::string what = e.what();
+  const auto tag_end = what.find("] ");
+  return tag_end == std::string::npos ? what : what.substr(tag_end + 2);
 }
 
 nlohmann::json read_json(const std::string& path) { return parse_json(read_text(path), path); }

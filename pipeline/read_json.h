@@ -14,6 +14,9 @@ namespace pipeline {
 ///         (nlohmann's message without its "[json.exception.parse_error.101]" tag)
 nlohmann::json parse_json(const std::string& text, const std::string& name);
 
+/// nlohmann's message without its "[json.exception.type_error.302] " tag, for a user's error line.
+std::string json_error_text(const nlohmann::json::exception& e);
+
 /// Reads and parses the JSON file at `path`. @throws Error(bad_input) as read_text and parse_json.
 nlohmann::json read_json(const std::string& path);
 

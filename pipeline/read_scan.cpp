@@ -17,6 +17,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "pipeline/error.h"
@@ -41,10 +42,12 @@ void check_file(const std::string& path) {
   if (fs::file_size(path, ec) == 0) throw bad_input(path, "file is empty");
 }
 
-void check_finite(const std::vector<Point>& pts, const std::string& path) {
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    if (!std::isfinite(pts[i].x()) || !std::isfinite(pts[i].y()) || !std::isfinite(pts[i].z()))
-      throw bad_input(path, "vertex " + std::to_string(i) + " has a non-finite (NaN or infinite) coordinate");
+// `xyz` are points or normals; the error names the `element` and what of it is not finite.
+template <class Xyz>
+void check_finite(const std::vector<Xyz>& xyz, const std::string& path, const char* element, const char* what) {
+  for (std::size_t i = 0; i < xyz.size(); ++i)
+    if (!std::isfinite(xyz[i].x()) || !std::isfinite(xyz[i].y()) || !std::isfinite(xyz[i].z()))
+      throw bad_input(path, std::string(element) + " " + std::to_string(i) + " has a non-finite (NaN or infinite) " + what);
 }
 
 std::string first_bytes(const std::string& path, std::size_t n) {
@@ -63,15 +66,14 @@ std::string first_bytes(const std::string& path, std::size_t n) {
 // second line (OFF: nullptr).
 std::string why_text_unreadable(const std::string& path, const std::string& what, const char* body_after) {
   std::ifstream in(path, std::ios::binary);
+  in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  std::size_t line = 2;  // the first line was just skipped
   std::string word;
-  std::getline(in, word);
-  std::size_t line = 2;  // the first line was just read
   bool in_body = body_after == nullptr;
   auto non_finite = [](std::string w) {
     if (!w.empty() && (w[0] == '-' || w[0] == '+')) w.erase(0, 1);
     return w == "nan" || w == "inf" || w == "infinity" || w.rfind("nan(", 0) == 0;
   };
-  word.clear();
   for (char c; in.get(c) || !word.empty();) {
     if (!in || std::isspace(static_cast<unsigned char>(c))) {
       if (!in_body) {
@@ -243,12 +245,8 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
 
   auto& pts = scan.is_mesh ? scan.soup.points : scan.cloud.points;
   if (pts.empty()) throw bad_input(path, "no points in file");
-  check_finite(pts, path);
-  for (std::size_t i = 0; i < scan.cloud.normals.size(); ++i) {
-    const Vector& n = scan.cloud.normals[i];
-    if (!std::isfinite(n.x()) || !std::isfinite(n.y()) || !std::isfinite(n.z()))
-      throw bad_input(path, "point " + std::to_string(i) + " has a non-finite (NaN or infinite) normal");
-  }
+  check_finite(pts, path, "vertex", "coordinate");
+  check_finite(scan.cloud.normals, path, "point", "normal");
   for (const auto& poly : scan.soup.polygons)
     for (std::size_t i : poly)
       if (i >= pts.size()) throw bad_input(path, "face refers to vertex " + std::to_string(i) + " of " + std::to_string(pts.size()));

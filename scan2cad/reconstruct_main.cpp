@@ -78,12 +78,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     scan2cad::ReconstructStats st;
-    pipeline::SurfaceMesh mesh;
-    try {
-      mesh = scan2cad::reconstruct(scan.cloud, kind, opt, &st);
-    } catch (const pipeline::Error& e) {  // name the file in the one error line
-      throw pipeline::Error(e.kind, in + ": " + e.what());
-    }
+    const pipeline::SurfaceMesh mesh =
+        pipeline::naming_file(in, [&] { return scan2cad::reconstruct(scan.cloud, kind, opt, &st); });
     // 4. Write
     pipeline::write_surface_mesh(out, mesh);
     pipeline::log("reconstruct", in + ": " + std::to_string(st.input_points) + " points, " +

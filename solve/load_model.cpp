@@ -208,8 +208,7 @@ void apply_deck(Model& m, const std::string& text, const std::string& deck_name)
   try {
     apply_deck_json(m, j, deck_name);
   } catch (const json::exception& e) {
-    std::string what = e.what();
-    throw pipeline::bad_input(deck_name, "wrong value type: " + what.substr(what.find(']') + 2));
+    throw pipeline::bad_input(deck_name, "wrong value type: " + pipeline::json_error_text(e));
   }
 }
 
