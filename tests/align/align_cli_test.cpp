@@ -7,13 +7,15 @@
 #include <fstream>
 #include <string>
 
+#include "../scratch_dir.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
 // One folder per process: ctest runs this binary's tests as parallel processes, and a shared
 // folder let one test read the other's stderr (repair_cli failed on reconstruct_cli's message).
-const fs::path dir = fs::temp_directory_path() / ("rf_align_cli_" + std::to_string(::getpid()));
+const fs::path dir = scratch_dir() / "align_cli";
 
 int run(const std::string& args) {
   fs::create_directories(dir);

@@ -10,6 +10,7 @@
 
 #include "pipeline/write_mesh.h"
 #include "scan2cad/align.h"
+#include "../scratch_dir.h"
 
 namespace align_test {
 
@@ -50,7 +51,7 @@ inline pipeline::SurfaceMesh posed_in_metres(pipeline::SurfaceMesh mesh, const E
     shuffled.add_face(vs);
   }
   mesh = shuffled;
-  const auto dir = std::filesystem::temp_directory_path() / "rf_align_test";
+  const auto dir = scratch_dir() / "metres";
   std::filesystem::create_directories(dir);
   const std::string path = (dir / (name + ".ply")).string();
   pipeline::write_surface_mesh(path, mesh);

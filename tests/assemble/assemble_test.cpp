@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "../layers/layers_fixtures.h"
+#include "../scratch_dir.h"
 #include "layering/layers.h"
 #include "meshing/assemble.h"
 #include "meshing/internal/assemble_geometry.h"
@@ -27,7 +28,7 @@ struct Scene {
     layering::LayerOptions ro;
     ro.kind = "respirator";
     resp = layering::build_layers(fixtures::dome_respirator(), layering::read_stacks(kMaterials, "respirator"), ro, nullptr);
-    landmarks_path = (std::filesystem::temp_directory_path() / "assemble_test_landmarks.json").string();
+    landmarks_path = (scratch_dir() / "landmarks.json").string();
     pipeline::write_text_atomic(landmarks_path, fixtures::niosh_landmarks(surface).dump(2));
     lm = meshing::read_landmarks(landmarks_path);
   }
@@ -163,7 +164,7 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
                         "strap_bottom", "strap_top_end_left", "strap_bottom_end_right", "attach_top_left",
                         "attach_bottom_right", "forehead_bone", "back_of_head", "left_cheek_fat"})
     EXPECT_NE(model.find(g), nullptr) << g;
-  const auto dir = std::filesystem::temp_directory_path() / "assemble_test";
+  const auto dir = scratch_dir() / "model";
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "model.msh").string();
   layering::write_fe_model(model, path);
@@ -192,7 +193,7 @@ namespace {
 // Runs a stage with stderr captured; returns the exit status and the stderr lines other than the
 // option echo (every stage logs its resolved options first).
 int run_stage(const std::string& args, std::vector<std::string>* err_lines) {
-  const std::string err = (std::filesystem::temp_directory_path() / "assemble_cli_err.txt").string();
+  const std::string err = (scratch_dir() / "err.txt").string();
   const int rc = WEXITSTATUS(std::system((std::string(BIN_DIR) + "/" + args + " 2>" + err).c_str()));
   std::ifstream in(err);
   for (std::string l; std::getline(in, l);)
@@ -202,7 +203,7 @@ int run_stage(const std::string& args, std::vector<std::string>* err_lines) {
 }  // namespace
 
 TEST(straps_cli, missing_head_gives_one_error_line_exit_2_no_output) {
-  const std::string out = (std::filesystem::temp_directory_path() / "straps_cli_none.msh").string();
+  const std::string out = (scratch_dir() / "straps_none.msh").string();
   std::filesystem::remove(out);
   std::vector<std::string> err;
   EXPECT_EQ(run_stage("straps --head /nonexistent_head.msh --landmarks /nonexistent.json --respirator /nonexistent_r.msh --out " + out, &err), 2);
@@ -212,7 +213,7 @@ TEST(straps_cli, missing_head_gives_one_error_line_exit_2_no_output) {
 }
 
 TEST(assemble_cli, bad_landmarks_give_one_error_line_exit_2_no_outputs) {
-  const auto dir = std::filesystem::temp_directory_path() / "assemble_cli";
+  const auto dir = scratch_dir() / "assemble_cli";
   std::filesystem::create_directories(dir);
   const std::string bad = (dir / "bad_landmarks.json").string(), out = (dir / "model.msh").string(),
                     d1 = (dir / "d1.json").string(), d2 = (dir / "d2.json").string(), m = (dir / "m.msh").string();

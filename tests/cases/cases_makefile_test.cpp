@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "../scratch_dir.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -28,8 +30,7 @@ const char* const kStages[] = {"generate_scan", "reconstruct", "repair", "align"
 class CasesMake : public ::testing::Test {
  protected:
   void SetUp() override {
-    build_ = fs::temp_directory_path() / ("cases_makefile_test_" + std::to_string(::getpid()) + "_" +
-                                          ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    build_ = scratch_dir() / ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::remove_all(build_);
     fs::create_directories(build_ / "bin");
     for (const char* s : kStages) {
@@ -47,7 +48,6 @@ class CasesMake : public ::testing::Test {
       fs::permissions(p, fs::perms::owner_all);
     }
   }
-  void TearDown() override { fs::remove_all(build_); }
 
   // Runs the case rules; returns make's exit status and the lines the stand-ins logged.
   int make(const std::string& args, std::vector<std::string>* ran, const std::string& env = "") {

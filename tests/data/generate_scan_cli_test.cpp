@@ -8,9 +8,11 @@
 #include <sstream>
 #include <string>
 
+#include "../scratch_dir.h"
+
 namespace {
 const std::string bin = std::string(BIN_DIR) + "/generate_scan";
-const std::string tmp = std::filesystem::temp_directory_path().string() + "/generate_scan_test";
+const std::string tmp = scratch_dir().string();
 int run(const std::string& args) {
   const int rc = std::system((bin + " " + args + " 2>" + tmp + "/stderr.txt").c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;

@@ -15,12 +15,13 @@
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
 #include "../niosh_medium_ply.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path dir = fs::temp_directory_path() / ("fit_test_" + std::to_string(::getpid()));
+const fs::path dir = scratch_dir() / "fit";
 
 std::string niosh_medium_ply() { return ::niosh_medium_ply(dir); }
 
@@ -86,5 +87,4 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_input) {
   while (std::getline(in, line)) last = line;
   EXPECT_EQ(last, "fit: " + respirator_like + ": parts: no face of part forehead: a segmented head has all five (is this a respirator?)");
   EXPECT_FALSE(fs::exists(bad));
-  fs::remove_all(dir);
 }

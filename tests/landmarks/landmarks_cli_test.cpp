@@ -13,12 +13,13 @@
 #include <nlohmann/json.hpp>
 
 #include "../niosh_medium_ply.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path dir = fs::temp_directory_path() / ("rf_landmarks_cli_" + std::to_string(::getpid()));
+const fs::path dir = scratch_dir();
 // NIOSH medium is given in the head frame (y up, face toward +z, mm): no align needed.
 
 int run(const std::string& args) {
@@ -99,5 +100,4 @@ TEST(landmarks_cli, user_file_replaces_detection) {
   user["landmarks"]["menton"]["position"][1] = -500.0;
   write(dir / "far.json", user.dump());
   expect_bad_input("--in " + head + " --user " + (dir / "far.json").string(), (dir / "far.json").string());
-  fs::remove_all(dir);
 }

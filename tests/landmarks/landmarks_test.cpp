@@ -16,6 +16,7 @@
 #include "scan2cad/align.h"
 #include "scan2cad/landmarks.h"
 #include "../scan2cad/test_meshes.h"
+#include "../scratch_dir.h"
 
 namespace {
 
@@ -113,7 +114,7 @@ TEST(guessed_landmarks, the_sellion_of_a_sphere_but_nothing_on_the_niosh_heads) 
 }
 
 TEST(read_landmarks, rejects_a_left_point_on_the_right) {
-  const auto path = std::filesystem::temp_directory_path() / "rf_landmarks_bad.json";
+  const auto path = scratch_dir() / "bad.json";
   scan2cad::Landmarks l;
   for (const auto& n : scan2cad::required_landmarks()) {
     const double x = n.find("_left") != std::string::npos ? 50 : n.find("_right") != std::string::npos ? -50 : 0;

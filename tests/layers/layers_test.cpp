@@ -24,6 +24,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
+#include "../scratch_dir.h"
 
 namespace {
 
@@ -180,7 +181,7 @@ TEST(write_fe_model, round_trip_and_opens_in_meshio) {
   layering::LayerOptions opt;
   opt.kind = "respirator";
   const layering::FeModel m = layering::build_layers(fixtures::dome_respirator(), layering::read_stacks(kMaterials, "respirator"), opt, nullptr);
-  const std::string path = (std::filesystem::temp_directory_path() / "layers_roundtrip.msh").string();
+  const std::string path = (scratch_dir() / "roundtrip.msh").string();
   layering::write_fe_model(m, path);
   const layering::FeModel r = layering::read_fe_model(path);
   EXPECT_EQ(r.nodes.size(), m.nodes.size());
@@ -195,7 +196,7 @@ TEST(write_fe_model, round_trip_and_opens_in_meshio) {
 }
 
 TEST(layers_cli, missing_input_exits_2_without_output) {
-  const std::string out = (std::filesystem::temp_directory_path() / "layers_cli_none.msh").string();
+  const std::string out = (scratch_dir() / "none.msh").string();
   std::filesystem::remove(out);
   const std::string cmd = std::string(BIN_DIR) + "/layers --in /nonexistent.msh --materials " + kMaterials +
                           " --out " + out + " 2>/dev/null";
@@ -206,7 +207,7 @@ TEST(layers_cli, missing_input_exits_2_without_output) {
 // gmsh throws its errors as std::string, which the reader once let through as an internal error
 // (exit 3, "Error loading ..."); an empty file read as a mesh without groups.
 TEST(layers_cli, empty_or_truncated_msh_exits_2_with_one_line_naming_it) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("layers_cli_bad_" + std::to_string(::getpid()));
+  const std::filesystem::path dir = scratch_dir() / "bad";
   std::filesystem::create_directories(dir);
   const std::pair<std::string, std::string> bad[] = {
       {"empty.msh", ""},
@@ -227,14 +228,13 @@ TEST(layers_cli, empty_or_truncated_msh_exits_2_with_one_line_naming_it) {
     EXPECT_NE(last.find(name + ": "), std::string::npos) << last;
     EXPECT_FALSE(std::filesystem::exists(out)) << name;
   }
-  std::filesystem::remove_all(dir);
 }
 
 // Layer thicknesses: none, negative, and in the wrong unit (a 1 m skin was layered as columns
 // thinned a millionfold) are bad input naming the file and the part.
 TEST(read_stacks, rejects_absurd_layer_thicknesses) {
   const nlohmann::json good = nlohmann::json::parse(pipeline::read_text(kMaterials));
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / ("read_stacks_" + std::to_string(::getpid()) + ".json");
+  const std::filesystem::path path = scratch_dir() / "read_stacks.json";
   for (const double mm : {0.0, -3.0, 1000.0}) {
     nlohmann::json bad = good;
     bad["head_layers_mm"]["forehead"][0][1] = mm;
@@ -249,5 +249,4 @@ TEST(read_stacks, rejects_absurd_layer_thicknesses) {
     }
   }
   EXPECT_NO_THROW(layering::read_stacks(kMaterials, "head"));
-  std::filesystem::remove(path);
 }

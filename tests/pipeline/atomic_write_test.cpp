@@ -4,11 +4,12 @@
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 TEST(write_atomic, writes_complete_file_and_creates_directories) {
-  const fs::path dir = fs::temp_directory_path() / "rf_atomic_test" / "sub";
+  const fs::path dir = scratch_dir() / "atomic" / "sub";
   fs::remove_all(dir.parent_path());
   const std::string path = (dir / "out.txt").string();
   pipeline::write_text_atomic(path, "hello");
@@ -17,7 +18,7 @@ TEST(write_atomic, writes_complete_file_and_creates_directories) {
 }
 
 TEST(write_atomic, failed_writer_leaves_no_file_and_keeps_old_one) {
-  const fs::path dir = fs::temp_directory_path() / "rf_atomic_fail";
+  const fs::path dir = scratch_dir() / "atomic_fail";
   fs::remove_all(dir);
   const std::string path = (dir / "out.txt").string();
   EXPECT_THROW(pipeline::write_atomic(path, [](const std::string& tmp) {

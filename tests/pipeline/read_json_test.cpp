@@ -7,6 +7,7 @@
 
 #include "pipeline/error.h"
 #include "pipeline/read_json.h"
+#include "../scratch_dir.h"
 
 namespace {
 
@@ -23,16 +24,15 @@ pipeline::Error error_of(const std::string& path) {
 }  // namespace
 
 TEST(read_json, reads_a_document) {
-  const auto path = std::filesystem::temp_directory_path() / "read_json_good.json";
+  const auto path = scratch_dir() / "good.json";
   std::ofstream(path) << R"({"gap_mm": 3, "parts": ["chin"]})";
   const nlohmann::json j = pipeline::read_json(path.string());
   EXPECT_EQ(j.at("gap_mm").get<int>(), 3);
   EXPECT_EQ(j.at("parts").at(0).get<std::string>(), "chin");
-  std::filesystem::remove(path);
 }
 
 TEST(read_json, missing_empty_and_malformed_files_are_bad_input_naming_the_file) {
-  const auto dir = std::filesystem::temp_directory_path() / "read_json_bad";
+  const auto dir = scratch_dir() / "bad";
   std::filesystem::create_directories(dir);
   const std::string missing = (dir / "missing.json").string(), empty = (dir / "empty.json").string(),
                     truncated = (dir / "truncated.json").string();
@@ -48,5 +48,4 @@ TEST(read_json, missing_empty_and_malformed_files_are_bad_input_naming_the_file)
   EXPECT_NE(std::string(error_of(truncated).what()).find("not valid JSON: parse error at line 1"), std::string::npos)
       << error_of(truncated).what();
   EXPECT_THROW(pipeline::parse_json("[1,", "deck"), pipeline::Error);
-  std::filesystem::remove_all(dir);
 }

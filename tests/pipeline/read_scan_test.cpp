@@ -8,13 +8,14 @@
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
 std::string tmp_file(const std::string& name, const std::string& content) {
-  const fs::path p = fs::temp_directory_path() / "rf_read_scan" / name;
+  const fs::path p = scratch_dir() / name;
   fs::create_directories(p.parent_path());
   std::ofstream(p, std::ios::binary) << content;
   return p.string();
@@ -48,7 +49,7 @@ TEST(read_scan, scales_a_head_written_in_metres) {
   auto scan = pipeline::read_scan(path);
   pipeline::PointCloud c;
   for (const auto& p : scan.soup.points) c.points.emplace_back(p.x() / 1000, p.y() / 1000, p.z() / 1000);
-  const std::string m = (fs::temp_directory_path() / "rf_read_scan" / "head_m.xyz").string();
+  const std::string m = (scratch_dir() / "head_m.xyz").string();
   pipeline::write_point_cloud(m, c);
   const auto back = pipeline::read_scan(m);
   EXPECT_EQ(back.unit, pipeline::Unit::m);
@@ -75,7 +76,7 @@ TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
 
   pipeline::PointCloud c;
   for (int i = 0; i < 1000; ++i) c.points.emplace_back(i * 0.2, (i % 10) * 20.0, (i % 7) * 30.0);
-  const std::string ply = (fs::temp_directory_path() / "rf_read_scan" / "full.ply").string();
+  const std::string ply = (scratch_dir() / "full.ply").string();
   pipeline::write_point_cloud(ply, c);
   std::ifstream pin(ply, std::ios::binary);
   std::string pbytes((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
@@ -116,7 +117,7 @@ TEST(read_scan, a_nan_normal_is_bad_input_naming_the_point) {
     c.normals.emplace_back(0, 0, 1);
   }
   c.normals[17] = pipeline::Vector(0, std::nan(""), 1);
-  const std::string ply = (fs::temp_directory_path() / "rf_read_scan" / "nan_normal.ply").string();
+  const std::string ply = (scratch_dir() / "nan_normal.ply").string();
   fs::create_directories(fs::path(ply).parent_path());
   pipeline::write_point_cloud(ply, c);
   try {

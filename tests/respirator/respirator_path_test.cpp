@@ -28,6 +28,7 @@
 #include "meshing/surface_mesh.h"
 #include "scan2cad/align.h"
 #include "scan2cad/fit.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -35,13 +36,7 @@ using pipeline::SurfaceMesh;
 
 namespace {
 
-const fs::path dir = fs::temp_directory_path() / ("respirator_path_test_" + std::to_string(::getpid()));
-
-// Removes the scratch directory after the last test.
-struct ScratchCleanup : ::testing::Environment {
-  void TearDown() override { fs::remove_all(dir); }
-};
-const auto* const cleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+const fs::path dir = scratch_dir();
 
 SurfaceMesh clean_cup(const std::string& id) {
   generator::HeadParams face;

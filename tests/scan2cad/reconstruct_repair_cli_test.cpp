@@ -17,6 +17,7 @@
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/reconstruct.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -24,7 +25,7 @@ namespace {
 
 // One folder per process: ctest runs this binary's tests as parallel processes, and a shared
 // folder let one test read the other's stderr (repair_cli failed on reconstruct_cli's message).
-const fs::path dir = fs::temp_directory_path() / ("rf_scan2cad_cli_" + std::to_string(::getpid()));
+const fs::path dir = scratch_dir();
 const std::string niosh_medium = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
 
 struct CliRun {

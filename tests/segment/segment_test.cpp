@@ -22,6 +22,7 @@
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "../niosh_medium_ply.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -31,8 +32,7 @@ const std::string fixture = std::string(SOURCE_DIR) + "/tests/segment/niosh_medi
 
 // Converted once per test binary.
 std::string niosh_medium_ply() {
-  static const std::string path =
-      ::niosh_medium_ply(fs::temp_directory_path() / ("segment_test_" + std::to_string(::getpid())));
+  static const std::string path = ::niosh_medium_ply(scratch_dir());
   return path;
 }
 
@@ -178,7 +178,7 @@ ScriptRun render_parts(const fs::path& in, const fs::path& png) {
 // indices and failed); a missing, non-PLY, truncated or out-of-range file gives one line naming
 // it, a non-zero exit and no PNG.
 TEST(render_parts_script, ascii_and_binary_give_the_same_png_and_bad_files_give_none) {
-  const fs::path dir = fs::temp_directory_path() / ("render_parts_test_" + std::to_string(::getpid()));
+  const fs::path dir = scratch_dir() / "render_parts";
   fs::create_directories(dir);
   const LabelledCube cube = labelled_cube();
   write_file(dir / "ascii.ply", ascii_ply(cube));
@@ -212,5 +212,4 @@ TEST(render_parts_script, ascii_and_binary_give_the_same_png_and_bad_files_give_
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_FALSE(fs::exists(png_out)) << name;
   }
-  fs::remove_all(dir);
 }

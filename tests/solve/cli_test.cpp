@@ -10,6 +10,7 @@
 #include "solve/load_model.h"
 #include "solve/make_block.h"
 #include "solve/write_results.h"
+#include "../scratch_dir.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 struct CliCase {
   std::string dir;
   CliCase() {
-    dir = (fs::temp_directory_path() / ("solve_cli_" + std::to_string(::getpid()))).string();
+    dir = (scratch_dir() / "cli").string();
     fs::remove_all(dir);
     fs::create_directories(dir);
     solve::BlockSpec b;
@@ -26,7 +27,6 @@ struct CliCase {
     b.size = {3, 3, 3};
     solve::write_mesh_msh(solve::make_block(b, {"skin", 1.2e-3, 0.6, 0.45, false}), dir + "/block.msh");
   }
-  ~CliCase() { fs::remove_all(dir); }
   void write(const std::string& name, const std::string& text) const { std::ofstream(dir + "/" + name) << text; }
   std::string read(const std::string& name) const {
     std::ifstream in(dir + "/" + name);

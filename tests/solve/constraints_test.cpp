@@ -11,6 +11,7 @@
 #include "solve/run.h"
 #include "solve/save_state.h"
 #include "solve/solver.h"
+#include "../scratch_dir.h"
 
 namespace {
 using solve::ElementType;
@@ -102,7 +103,7 @@ TEST(ties, matched_at_the_positions_the_run_starts_from) {
   EXPECT_NEAR(s.reaction("zmin")[2], -pull, 1e-4 * pull);
 
   // The stage program's path: the state in a file named by the deck's initial_state.
-  const auto dir = std::filesystem::temp_directory_path() / ("solve_test_tie_start_" + std::to_string(::getpid()));
+  const auto dir = scratch_dir() / "tie_start";
   std::filesystem::create_directories(dir);
   solve::save_state((dir / "start.bin").string(), start);
   m.initial_state.file = (dir / "start.bin").string();
@@ -113,7 +114,6 @@ TEST(ties, matched_at_the_positions_the_run_starts_from) {
   o.write_results = false;
   EXPECT_NO_THROW(solve::run(m, o));
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "state.bin"));
-  std::filesystem::remove_all(dir);
 }
 
 // A free rigid body spinning about an axis through its mass centre keeps its shape exactly (its

@@ -12,6 +12,7 @@
 #include "solve/run.h"
 #include "solve/save_state.h"
 #include "solve/solver.h"
+#include "../scratch_dir.h"
 
 namespace {
 
@@ -19,7 +20,7 @@ using solve::ElementType;
 namespace fs = std::filesystem;
 
 std::string temp_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("solve_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path p = scratch_dir() / name;
   fs::remove_all(p);
   fs::create_directories(p);
   return p.string();

@@ -8,6 +8,7 @@
 #include "solve/load_model.h"
 #include "solve/make_block.h"
 #include "solve/write_results.h"
+#include "../scratch_dir.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -32,7 +33,7 @@ double flux(const solve::Model& m, const std::vector<std::array<int, 3>>& tris) 
 // The boundary of a 3D group read from a .msh is closed and outward: its flux ∮x·n dA is 3V
 // (exact up to round-off: 1e-9 relative). The named face groups survive the round trip.
 TEST(read_msh, surface_of_3d_group_is_closed_and_outward) {
-  const std::string path = (fs::temp_directory_path() / ("solve_rt_" + std::to_string(::getpid()) + ".msh")).string();
+  const std::string path = (scratch_dir() / "round_trip.msh").string();
   for (ElementType t : {ElementType::wedge6, ElementType::hex8, ElementType::tet4}) {
     solve::BlockSpec b;
     b.type = t;
@@ -47,7 +48,6 @@ TEST(read_msh, surface_of_3d_group_is_closed_and_outward) {
     EXPECT_EQ(m.group("xmin"), src.group("xmin"));
     EXPECT_EQ(m.surface("zmax").size(), src.surface("zmax").size());
   }
-  fs::remove(path);
 }
 
 // Deck errors name the deck and the key.

@@ -19,6 +19,7 @@
 
 #include "../align/align_helpers.h"
 #include "../layers/check_head_layers.h"
+#include "../scratch_dir.h"
 #include "data/generator/head_model.h"
 #include "layering/internal/segment_landmarks.h"
 #include "layering/layers.h"
@@ -33,7 +34,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path dir = fs::temp_directory_path() / ("rf_generated_heads_" + std::to_string(::getpid()));
+const fs::path dir = scratch_dir();
 
 class GeneratedHead : public ::testing::TestWithParam<const char*> {};
 
@@ -134,7 +135,6 @@ TEST_P(GeneratedHead, aligned_segmented_fitted_and_meshed_within_the_requirement
                                               layering::read_stacks(std::string(SOURCE_DIR) + "/data/materials.json", "head"),
                                               layering::LayerOptions{}, &rep);
   layers_test::expect_valid_head_layers(layered, rep, id + ": layers");
-  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(head, GeneratedHead, ::testing::Values("small", "medium", "large", "longnarrow", "shortwide"));

@@ -21,12 +21,13 @@
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
 #include "scan2cad/repair.h"
+#include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path dir = fs::temp_directory_path() / ("surface_mesh_test_" + std::to_string(::getpid()));
+const fs::path dir = scratch_dir();
 
 // NIOSH medium (already in the head frame, mm) repaired with the repair defaults, segmented and
 // fitted as `make case=...` does.
@@ -98,5 +99,4 @@ TEST(surface_mesh_cli, writes_msh_meshio_reads_and_fails_cleanly) {
   const std::string bad = (dir / "bad.msh").string();
   EXPECT_EQ(WEXITSTATUS(std::system((bin + bad + " --min-gamma 0.99 2>/dev/null").c_str())), 3);
   EXPECT_FALSE(fs::exists(bad));
-  fs::remove_all(dir);
 }
