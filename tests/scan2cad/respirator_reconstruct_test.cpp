@@ -3,7 +3,7 @@
 // hole: generate_scan's defaults). reconstruct separates the two sides of the wall and keeps
 // the inner one (toward the face); repair must give a clean open disk — manifold, no
 // self-intersections, one boundary loop (the rim), disk topology — facing the face and lying
-// on the scanned inner surface. Before, advancing front on the whole cup tore the inner side
+// on the scanned inner surface, every output point within 1 mm of the cup. Before, advancing front on the whole cup tore the inner side
 // apart (400 self-intersecting faces, 117 holes filled).
 #include <gtest/gtest.h>
 
@@ -106,8 +106,11 @@ void check_cup(const std::string& id) {
     facing += PMP::compute_face_normal(hit.second, out) * n > 0.5;
   }
   ASSERT_GT(inner, 1000u);
-  // output → clean surface: nothing off the cup
+  // output → clean surface: nothing off the cup, within the heads' Hausdorff bound. Measured
+  // 0.742 / 0.749 mm (onesize / threesize-xl, seed 1); threesize-xl was at 2.41 mm once, at the
+  // rim's nose notch. (The other direction is not bounded: the output is the inner side only.)
   const auto d = scan2cad::surface_distance(out, clean);
+  EXPECT_LE(d.a_to_b_max_mm, 1.0) << "farthest output point " << d.a_worst;
   std::printf("%-13s wall %.2f mm | inner side within %.1f mm: %.2f %%, of these facing the same way: %.2f %%, farthest "
               "%.2f mm | output->clean max %.3f mm | faces %zu, %zu holes filled, %zu self-intersecting "
               "removed\n",
@@ -119,23 +122,7 @@ void check_cup(const std::string& id) {
   EXPECT_GT(double(facing), 0.99 * double(near));
 }
 
-// Every output point within 1 mm of the cup (the head's Hausdorff bound).
-void check_cup_within_1mm(const std::string& id) {
-  SCOPED_TRACE(id);
-  const CupRun& run = cup_run(id);
-  EXPECT_LE(scan2cad::surface_distance(run.repaired, run.clean).a_to_b_max_mm, 1.0);
-}
-
 }  // namespace
 
-TEST(respirator_reconstruct, onesize_cup_keeps_its_inner_side_as_a_clean_open_disk) { check_cup("onesize"); }
-TEST(respirator_reconstruct, threesize_xl_cup_keeps_its_inner_side_as_a_clean_open_disk) { check_cup("threesize-xl"); }
-
-// DISABLED: not met. Measured (seed 1): onesize 0.71 mm, threesize-xl 2.41 mm; the far points
-// sit at the top of the rim, on one side of the nose notch, where the inner side folds down
-// by ~90° over 1.5 mm and advancing front + remeshing cut across the fold. Elsewhere the output
-// is within 0.7 mm. Run with --gtest_also_run_disabled_tests.
-TEST(respirator_reconstruct, DISABLED_both_cups_lie_within_1mm_of_the_cup) {
-  check_cup_within_1mm("onesize");
-  check_cup_within_1mm("threesize-xl");
-}
+TEST(respirator_reconstruct, onesize_cup_keeps_its_inner_side_as_a_clean_open_disk_on_the_cup) { check_cup("onesize"); }
+TEST(respirator_reconstruct, threesize_xl_cup_keeps_its_inner_side_as_a_clean_open_disk_on_the_cup) { check_cup("threesize-xl"); }
