@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -89,6 +91,30 @@ std::string why_text_unreadable(const std::string& path, const std::string& what
     if (word.size() < 64) word.push_back(char(std::tolower(static_cast<unsigned char>(c))));  // binary: never a word
   }
   return "unreadable or truncated " + what;
+}
+
+// Why assimp refused an STL, where the bytes can tell: assimp says "Failed to determine STL
+// storage representation" both for a cut-off binary STL and for a file that is no STL at all. A
+// binary STL is an 80-byte header, a little-endian uint32 triangle count and 50 bytes per
+// triangle; an ascii one is text starting with "solid".
+std::string why_stl_unreadable(const std::string& path, const std::string& assimp_error) {
+  const std::uintmax_t size = fs::file_size(path);
+  const std::string head = first_bytes(path, 84);
+  const bool text = std::all_of(head.begin(), head.end(), [](char c) {
+    return std::isprint(static_cast<unsigned char>(c)) || std::isspace(static_cast<unsigned char>(c));
+  });
+  if (!text && head.size() == 84) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, head.data() + 80, 4);  // the file's little-endian is the machine's (x86-64, arm64)
+    const std::uintmax_t expected = 84 + 50 * std::uintmax_t(n);
+    if (n > 0 && size < expected)
+      return "truncated binary STL: its header declares " + std::to_string(n) + " triangles (" +
+             std::to_string(expected) + " bytes), the file has " + std::to_string(size) + " bytes";
+  }
+  if (text && head.rfind("solid", 0) != 0) return "not an STL file: text that does not start with \"solid\"";
+  if (!text && size < 84)
+    return "not an STL file: " + std::to_string(size) + " bytes, shorter than a binary STL's 84-byte header";
+  return "not a readable mesh" + (assimp_error.empty() ? std::string() : ": " + assimp_error);
 }
 
 // Plain "x y z [nx ny nz]" lines. CGAL's XYZ reader silently skips malformed lines; a scan
@@ -199,7 +225,8 @@ void read_with_assimp(const std::string& path, Scan& scan) {
   const aiScene* sc = importer.ReadFile(
       path, aiProcess_DropNormals | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
   if (!sc || !sc->mNumMeshes) {
-    std::string why = importer.GetErrorString();
+    const std::string why = importer.GetErrorString();
+    if (lower_extension(path) == ".stl") throw bad_input(path, why_stl_unreadable(path, why));
     throw bad_input(path, "not a readable mesh" + (why.empty() ? std::string() : ": " + why));
   }
   scan.is_mesh = true;

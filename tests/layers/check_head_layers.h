@@ -19,17 +19,22 @@ inline void expect_valid_head_layers(const layering::FeModel& m, const layering:
               label.c_str(), rep.wedges, rep.shell_triangles, rep.nodes, rep.min_scaled_jacobian, rep.reduced_columns,
               rep.min_depth_scale);
   double min_j = 1e9, min_v = 1e9;
+  std::size_t wedges = 0;
   for (const auto& b : m.blocks)
     if (b.dim == 3)
-      for (std::size_t e = 0; e < b.size(); ++e) {
+      for (std::size_t e = 0; e < b.size(); ++e, ++wedges) {
         Eigen::Vector3d p[6];
         for (int k = 0; k < 6; ++k) p[k] = m.nodes[b.conn[6 * e + k]];
         min_j = std::min(min_j, layering::wedge_scaled_jacobian(p));
         min_v = std::min(min_v, layering::wedge_volume(p));
       }
+  ASSERT_GT(wedges, 0u);  // else the bounds below would hold by their starting values
+  EXPECT_EQ(wedges, rep.wedges);
   EXPECT_GT(min_v, 0.0);
   EXPECT_GE(min_j, 0.2);  // issue 4: min scaled Jacobian >= 0.2
   EXPECT_EQ(layering::count_intersecting_faces(m), 0u);
+  // One per layer of data/materials.json's head stacks: forehead 2, each cheek 4, chin 3.
+  EXPECT_EQ(rep.volumes.size(), 13u);
   for (const auto& v : rep.volumes) {
     std::printf("%s: %-20s %6zu wedges  V/(mid-area*t) %+5.1f %%  V/(skin-area*t) %+5.1f %%\n", label.c_str(),
                 v.group.c_str(), v.wedges, 100 * (v.volume / v.mid_area_volume - 1),

@@ -174,6 +174,7 @@ TEST(build_layers, respirator_dome_has_seal_and_outer_layers) {
   // Offsetting away from the face (+z) on the cup: a wedge's bottom (deeper) nodes lie above its top.
   const auto& seal = *m.find("respirator_seal");
   EXPECT_GT(m.nodes[seal.conn[0]].z() - m.nodes[seal.conn[3]].z(), 0.5);
+  ASSERT_EQ(rep.volumes.size(), 2u);  // the respirator's two layers (data/materials.json)
   for (const auto& v : rep.volumes) EXPECT_NEAR(v.volume / v.mid_area_volume, 1.0, 0.05) << v.group;
 }
 
@@ -184,10 +185,14 @@ TEST(write_fe_model, round_trip_and_opens_in_meshio) {
   const std::string path = (scratch_dir() / "roundtrip.msh").string();
   layering::write_fe_model(m, path);
   const layering::FeModel r = layering::read_fe_model(path);
-  EXPECT_EQ(r.nodes.size(), m.nodes.size());
+  ASSERT_EQ(r.nodes.size(), m.nodes.size());
+  double moved_mm = 0;  // gmsh writes 16 significant digits: ~1e-14 mm on a 100 mm model
+  for (std::size_t i = 0; i < m.nodes.size(); ++i) moved_mm = std::max(moved_mm, (r.nodes[i] - m.nodes[i]).norm());
+  EXPECT_LT(moved_mm, 1e-9);
   for (const auto& b : m.blocks) {
     const auto* rb = r.find(b.name);
     ASSERT_NE(rb, nullptr) << b.name;
+    EXPECT_EQ(rb->dim, b.dim) << b.name;
     EXPECT_EQ(rb->conn, b.conn) << b.name;
   }
   const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + path +

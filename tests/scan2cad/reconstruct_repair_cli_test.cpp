@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -88,7 +89,7 @@ TEST(reconstruct_cli, missing_file_is_rejected) { expect_rejected("reconstruct",
 TEST(reconstruct_cli, empty_file_is_rejected) { expect_rejected("reconstruct", write("empty.ply", ""), "empty"); }
 
 TEST(reconstruct_cli, text_file_that_is_not_a_mesh_is_rejected) {
-  expect_rejected("reconstruct", write("letter.stl", "Dear colleague,\nplease find the scan attached.\n"), "");
+  expect_rejected("reconstruct", write("letter.stl", "Dear colleague,\nplease find the scan attached.\n"), "not an STL file: text");
 }
 
 TEST(reconstruct_cli, nan_coordinates_are_rejected) {
@@ -130,12 +131,12 @@ TEST(reconstruct_cli, truncated_binary_ply_is_rejected) {
 
 TEST(reconstruct_cli, truncated_binary_stl_is_rejected) {
   const std::string b = bytes_of(niosh_medium);
-  expect_rejected("reconstruct", write("cut.stl", b.substr(0, b.size() / 2)), "");
+  expect_rejected("reconstruct", write("cut.stl", b.substr(0, b.size() / 2)), "truncated binary STL: its header declares");
 }
 
 TEST(repair_cli, truncated_binary_stl_is_rejected) {
   const std::string b = bytes_of(niosh_medium);
-  expect_rejected("repair", write("cut_r.stl", b.substr(0, b.size() / 3)), "");
+  expect_rejected("repair", write("cut_r.stl", b.substr(0, b.size() / 3)), "truncated binary STL: its header declares");
 }
 
 // A flat patch given as a head was closed into two coincident sheets, and CGAL's remeshing then
@@ -192,8 +193,12 @@ TEST(reconstruct_cli, a_mesh_passes_through_unchanged) {
   const CliRun r = run("reconstruct --in " + niosh_medium + " --kind head --out " + out);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto a = pipeline::read_scan(niosh_medium), b = pipeline::read_scan(out, {pipeline::Unit::mm});
-  EXPECT_EQ(a.soup.polygons.size(), b.soup.polygons.size());
-  EXPECT_EQ(a.soup.points.size(), b.soup.points.size());
+  EXPECT_EQ(a.soup.polygons, b.soup.polygons);
+  ASSERT_EQ(a.soup.points.size(), b.soup.points.size());
+  double moved_mm = 0;  // PLY stores float coordinates, as the STL does: read back to the bit
+  for (std::size_t i = 0; i < a.soup.points.size(); ++i)
+    moved_mm = std::max(moved_mm, std::sqrt(CGAL::squared_distance(a.soup.points[i], b.soup.points[i])));
+  EXPECT_EQ(moved_mm, 0.0);
 }
 
 TEST(repair_cli, niosh_medium_stl_comes_out_closed_manifold_and_clean) {

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 #include "pipeline/error.h"
 #include "solve/make_block.h"
@@ -277,11 +279,20 @@ TEST(solver, contact_pair_carries_load_to_rigid_base) {
   EXPECT_NEAR(fc[2], 0.01, 1e-4);
   // the support holds the base up against the pushed block: +0.01 N
   EXPECT_NEAR(s.reaction("all")[2], 0.01, 1e-4);
-  // mean pressure over the slave face: Σ p·(tributary area) ≈ F; here check the centre node
-  const auto p = s.contact_pressure();
-  double pmax = 0;
-  for (double v : p) pmax = std::max(pmax, v);
-  EXPECT_GT(pmax, 0.5 * 0.01 / 4);
+  // The pressure under the block is F/A = 0.01 N / 4 mm² = 2.5e-3 MPa: frictionless contact under
+  // a uniform top load is uniaxial stress. The median master node in contact is within 5 % of it
+  // (measured 2.53e-3; the jittered mesh scatters single nodes by ±15 %); nodes along the
+  // footprint's edge, which gather part of a slave facet's area, read up to 1.7x (4.2e-3), so 2x
+  // bounds them all.
+  std::vector<double> p;
+  for (double v : s.contact_pressure())
+    if (v > 0) p.push_back(v);
+  ASSERT_GE(p.size(), 9u);  // the 2 x 2 mm footprint covers at least the base's 3 x 3 nodes
+  std::sort(p.begin(), p.end());
+  const double f_over_a = 0.01 / 4;
+  EXPECT_NEAR(p[p.size() / 2], f_over_a, 0.05 * f_over_a);
+  EXPECT_GT(p.front(), 0.5 * f_over_a);
+  EXPECT_LT(p.back(), 2.0 * f_over_a);
   EXPECT_LT(s.max_penetration(), 0.05);
   // the same model through run(): the energy balance (with contact work) stays within the guard
   solve::RunOptions o;
