@@ -4,15 +4,24 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <stdexcept>
 #include <string>
 
 /// Writes <dir>/medium.ply (dir created if needed) with /usr/bin/python3 + meshio.
-/// @return the path, or "" if the conversion failed
+/// @return the path
+/// @throws std::runtime_error with python's stderr if the conversion failed (gtest fails the
+///         test there, rather than let it go on with no file)
 inline std::string niosh_medium_ply(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
-  const std::string path = (dir / "medium.ply").string();
+  const std::string path = (dir / "medium.ply").string(), log = (dir / "medium.ply.log").string();
   const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + SHARED_DATA_DIR +
                           "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + path +
-                          "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>/dev/null";
-  return std::system(cmd.c_str()) == 0 ? path : std::string();
+                          "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>" + log;
+  if (std::system(cmd.c_str()) != 0) {
+    std::ifstream in(log);
+    throw std::runtime_error("converting NIOSH_medium_20k.stl to " + path + " failed: " +
+                             std::string(std::istreambuf_iterator<char>(in), {}));
+  }
+  return path;
 }

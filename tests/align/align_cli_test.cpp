@@ -41,7 +41,8 @@ TEST(align_cli, missing_input_file_exits_2_without_output) {
   EXPECT_FALSE(fs::exists(dir / "a.json"));
 }
 
-TEST(align_cli, point_cloud_input_exits_2) {
+TEST(align_cli, point_cloud_input_exits_2_naming_the_file_and_writes_nothing) {
+  fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path xyz = dir / "cloud.xyz";
   {
@@ -49,7 +50,12 @@ TEST(align_cli, point_cloud_input_exits_2) {
     for (int i = 0; i < 200; ++i) f << (i % 10) * 20 << " " << (i / 10) * 10 << " " << (i % 7) << "\n";
   }
   EXPECT_EQ(run("--in " + xyz.string() + outs()), 2);
-  EXPECT_NE(err().find("point cloud"), std::string::npos) << err();
+  // The last line is the error; before it come only the options and progress lines.
+  const std::string text = err();
+  std::string last = text.substr(0, text.find_last_not_of('\n') + 1);
+  last = last.substr(last.find_last_of('\n') + 1);
+  EXPECT_EQ(last, "align: " + xyz.string() + ": is a point cloud, expected a surface mesh (run reconstruct and repair first)");
+  EXPECT_FALSE(fs::exists(dir / "a.ply"));
   EXPECT_FALSE(fs::exists(dir / "a.json"));
 }
 

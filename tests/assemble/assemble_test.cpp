@@ -195,9 +195,10 @@ namespace {
 int run_stage(const std::string& args, std::vector<std::string>* err_lines) {
   const std::string err = (scratch_dir() / "err.txt").string();
   const int rc = WEXITSTATUS(std::system((std::string(BIN_DIR) + "/" + args + " 2>" + err).c_str()));
+  const std::string options_line = args.substr(0, args.find(' ')) + ": options:";
   std::ifstream in(err);
   for (std::string l; std::getline(in, l);)
-    if (l.find('=') == std::string::npos) err_lines->push_back(l);  // skip the echoed "key=value" options
+    if (l.rfind(options_line, 0) != 0) err_lines->push_back(l);
   return rc;
 }
 }  // namespace

@@ -69,7 +69,6 @@ TEST(landmarks_cli, missing_or_empty_head_file_exits_2_naming_it) {
 
 TEST(landmarks_cli, malformed_user_file_exits_2_naming_it) {
   const std::string head = niosh_medium_ply(dir);
-  ASSERT_FALSE(head.empty());
   const fs::path user = dir / "user.json";
   write(user, "{\"landmarks\": {\"sellion\": ");  // truncated JSON
   expect_bad_input("--in " + head + " --user " + user.string(), user.string());
@@ -80,7 +79,6 @@ TEST(landmarks_cli, malformed_user_file_exits_2_naming_it) {
 
 TEST(landmarks_cli, user_file_replaces_detection) {
   const std::string head = niosh_medium_ply(dir);
-  ASSERT_FALSE(head.empty());
   // Detect, move every point 0.5 mm along the face normal-ish +z, hand it back as the user's.
   ASSERT_EQ(run("--in " + head + " --out " + out()), 0);
   nlohmann::json detected = read_json(out());

@@ -273,6 +273,6 @@ TEST(respirator_cli, clean_cup_through_the_stage_programs_and_bad_input) {
   EXPECT_NE(err.find("missing.ply"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d + "bad.ply"));
   EXPECT_EQ(run_stage("fit --kind respirator --in " + d + "aligned.ply --out " + d + "bad.ply", &err), 2);
-  EXPECT_NE(err.find("part"), std::string::npos) << err;  // not segmented: no "part" property
+  EXPECT_NE(err.find("aligned.ply: parts: no face property \"part\" (run segment first)"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d + "bad.ply"));
 }

@@ -45,7 +45,6 @@ int run(const std::string& args) {
 
 TEST(segment_head, niosh_medium_face_parts_are_disks) {
   const std::string ply = niosh_medium_ply();
-  ASSERT_FALSE(ply.empty());
   pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(ply);
   const auto stats = layering::segment_head(mesh, layering::internal::read_segment_landmarks(fixture));
   ASSERT_EQ(stats.size(), 5u);

@@ -86,7 +86,9 @@ TEST_P(GeneratedHead, aligned_segmented_fitted_and_meshed_within_the_requirement
   const auto fitted = scan2cad::fit_parts(head, "head", 2.0, 0.5, &refined_faces);
   std::printf("%s: fit refined %zu of %zu input faces, %zu fitted triangles\n", id.c_str(), refined_faces,
               std::size_t(head.number_of_faces()), std::size_t(fitted.number_of_faces()));
-  for (const auto& d : scan2cad::fit_deviation(head, fitted, "head")) {
+  const auto deviations = scan2cad::fit_deviation(head, fitted, "head");
+  EXPECT_EQ(deviations.size(), 5u);  // one per part, else the bounds below check nothing
+  for (const auto& d : deviations) {
     SCOPED_TRACE(d.name);
     std::printf("%s: fit %-12s rms %.3f max %.3f mm at (%.1f, %.1f, %.1f), outline shift %.3f mm at (%.1f, %.1f, %.1f)\n",
                 id.c_str(), d.name.c_str(), d.rms_mm, d.max_mm, d.max_at.x(), d.max_at.y(), d.max_at.z(),
@@ -101,7 +103,9 @@ TEST_P(GeneratedHead, aligned_segmented_fitted_and_meshed_within_the_requirement
   gmsh::option::setNumber("General.Terminal", 0);
   std::size_t face_triangles = 0, triangles = 0;
   try {
-    for (const auto& p : meshing::surface_mesh(fitted, "head", meshing::default_size_mm, meshing::default_back_size_mm, 0.0)) {
+    const auto parts = meshing::surface_mesh(fitted, "head", meshing::default_size_mm, meshing::default_back_size_mm, 0.0);
+    EXPECT_EQ(parts.size(), 5u);
+    for (const auto& p : parts) {
       SCOPED_TRACE(p.name);
       std::printf("%s: mesh %-12s %5zu triangles gamma min %.3f mean %.3f\n", id.c_str(), p.name.c_str(), p.triangles,
                   p.min_gamma, p.mean_gamma);
