@@ -2,6 +2,7 @@
 
 #include <CGAL/IO/PLY.h>
 #include <CGAL/boost/graph/IO/polygon_mesh_io.h>
+#include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/IO/write_ply_points.h>
 
 #include <filesystem>
@@ -12,19 +13,42 @@
 
 namespace pipeline {
 
-void write_surface_mesh(const std::string& path, const SurfaceMesh& mesh) {
+namespace {
+
+// Writes `path` atomically: a .ply through write_ply(stream) in binary, any other extension
+// through write_other(temporary path), where CGAL picks the format from the extension.
+template <class WritePly, class WriteOther>
+void write_mesh_by_extension(const std::string& path, WritePly write_ply, WriteOther write_other) {
   const std::string ext = std::filesystem::path(path).extension().string();
   write_atomic(path, [&](const std::string& tmp) {
     bool ok;
     if (ext == ".ply") {
       std::ofstream out(tmp, std::ios::binary);
       CGAL::IO::set_binary_mode(out);
-      ok = CGAL::IO::write_PLY(out, mesh) && out.flush();
+      ok = write_ply(out) && out.flush();
     } else {
-      ok = CGAL::IO::write_polygon_mesh(tmp, mesh, CGAL::parameters::stream_precision(17));
+      ok = write_other(tmp);
     }
     if (!ok) throw io_failed(path, "cannot write mesh (format '" + ext + "')");
   });
+}
+
+}  // namespace
+
+void write_surface_mesh(const std::string& path, const SurfaceMesh& mesh) {
+  write_mesh_by_extension(
+      path, [&](std::ostream& out) { return CGAL::IO::write_PLY(out, mesh); },
+      [&](const std::string& tmp) {
+        return CGAL::IO::write_polygon_mesh(tmp, mesh, CGAL::parameters::stream_precision(17));
+      });
+}
+
+void write_polygon_soup(const std::string& path, const PolygonSoup& soup) {
+  write_mesh_by_extension(
+      path, [&](std::ostream& out) { return CGAL::IO::write_PLY(out, soup.points, soup.polygons); },
+      [&](const std::string& tmp) {
+        return CGAL::IO::write_polygon_soup(tmp, soup.points, soup.polygons, CGAL::parameters::stream_precision(17));
+      });
 }
 
 void write_point_cloud(const std::string& path, const PointCloud& cloud) {

@@ -10,6 +10,10 @@ namespace pipeline {
 /// @throws Error(io) when writing fails; `path` is then untouched.
 void write_surface_mesh(const std::string& path, const SurfaceMesh& mesh);
 
+/// Writes a polygon soup as it is (faces of any size, no orientation or manifold check).
+/// @throws Error(io) when writing fails; `path` is then untouched.
+void write_polygon_soup(const std::string& path, const PolygonSoup& soup);
+
 /// Writes points (and normals when present). @throws Error(io) when writing fails.
 void write_point_cloud(const std::string& path, const PointCloud& cloud);
 

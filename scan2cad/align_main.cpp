@@ -1,13 +1,13 @@
 // align: puts a repaired head or respirator surface into the paper's frame (x lateral, +x = the
 // subject's left; y up; z out of the face; mm; sagittal plane x = 0) and writes the transform.
 //
-// Inputs:  --in      surface mesh (PLY/STL/OBJ/OFF), any unit (mm, cm, m, inch detected)
+// Inputs:  --in      surface mesh (PLY/STL/OBJ/OFF), any unit (mm, cm, m detected; --unit forces one)
 //          --kind    head | respirator
 // Outputs: --out       aligned surface (PLY, mm)
 //          --transform 4×4 rigid transform as JSON (see align.h, align_json)
 //
 // Sample runs:
-//   align --in build/cases/medium_flex/repaired.ply --kind head --out aligned.ply --transform align.json
+//   align --in build/cases/medium_onesize/head/repaired.ply --kind head --out aligned.ply --transform align.json
 //   align --in ../shared/data/respirator-parts/Flex_Face_Seal_v9-M.stl --kind respirator --out r.ply -t r.json
 #include <Eigen/Dense>
 #include <cmath>
@@ -16,26 +16,29 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
+#include "pipeline/units.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/align.h"
 
 int main(int argc, char** argv) {
-  std::string in, out, transform_path, kind_name = "head";
+  std::string in, out, transform_path, kind_name = "head", unit_name = "auto";
   int samples = 4000;
   pipeline::Cli cli("align", "Aligns a head or respirator surface into the paper's frame (x lateral, y up, z out of the face; mm).");
   cli.option("-i", "--in", &in, "input surface mesh (PLY/STL/OBJ/OFF), any unit", pipeline::required);
   cli.option("-k", "--kind", &kind_name, "head | respirator (default head)");
+  cli.option("-u", "--unit", &unit_name, "unit of the input: auto, mm, cm, m, in (default auto)");
   cli.option("-o", "--out", &out, "aligned surface (PLY, mm)", pipeline::required);
   cli.option("-t", "--transform", &transform_path, "4x4 transform (JSON)", pipeline::required);
   cli.option("-s", "--samples", &samples, "surface samples for the symmetry search (default 4000)", 500, 100000);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options (run_main has logged them)
     const auto kind = scan2cad::parse_align_kind(kind_name);
+    const pipeline::Unit unit = pipeline::parse_unit(unit_name);
     pipeline::Progress progress("align", 0);
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)
     progress.step("loading " + in);
     double scale = 1.0;
-    auto mesh = scan2cad::load_surface_any_unit(in, kind == scan2cad::AlignKind::head ? 250.0 : 130.0, &scale);
+    auto mesh = scan2cad::load_surface_any_unit(in, kind == scan2cad::AlignKind::head ? 250.0 : 130.0, &scale, unit);
     // 3. Align
     progress.step("symmetry plane and axes");
     scan2cad::AlignOptions opt;

@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   cli.option("-k", "--kind", &kind, "head | respirator (default head)");
   cli.option("-e", "--edge", &edge_mm, "target edge length of the fitted surface [mm] (default 2)", 0.3, 20.0);
   cli.option("-r", "--refine-above", &refine_above_mm,
-             "remesh at edge/2 where the uniform fit misses the input by more than this [mm] (default 0.5; 0 = off)", 0.0, 10.0);
+             "heads: remesh at edge/2 where the uniform fit misses the input by more than this [mm] (default 0.5; 0 = off)", 0.0, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options and input
     if (kind != "head" && kind != "respirator")

@@ -7,7 +7,7 @@
 // Outputs: --out   landmarks JSON
 //
 // Sample runs:
-//   landmarks --in build/cases/medium_flex/aligned.ply --out landmarks.json
+//   landmarks --in build/cases/medium_onesize/head/aligned.ply --out landmarks.json
 //   landmarks --in aligned.ply --user my_landmarks.json --out landmarks.json
 #include <cstdio>
 #include <sstream>

@@ -161,8 +161,4 @@ struct ReconstructStats {
 pipeline::SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind,
                                   const ReconstructOptions& opt, ReconstructStats* stats = nullptr);
 
-/// Writes a polygon soup as binary PLY, atomically (meshes pass reconstruct unchanged).
-/// @throws pipeline::Error(io) when writing fails; `path` is then untouched.
-void write_soup_ply(const std::string& path, const pipeline::PolygonSoup& soup);
-
 }  // namespace scan2cad

@@ -1,7 +1,7 @@
-// reconstruct: scanned point cloud → triangle mesh (meshes pass through unchanged).
+// reconstruct: scanned point cloud → triangle mesh (meshes pass through, scaled to mm).
 //
 // Inputs:  --in SCAN (PLY/STL/OBJ/OFF/XYZ, any unit: m/cm detected and scaled to mm)
-// Outputs: --out MESH.ply (triangle mesh [mm])
+// Outputs: --out MESH (triangle mesh [mm]; .ply binary, .off, .obj or .stl)
 // Sample runs:
 //   reconstruct --in scan.ply --kind head --out reconstructed.ply
 //   reconstruct --in shell.xyz --kind respirator --method advancing_front --out reconstructed.ply
@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   cli.option("-d", "--poisson-distance", &opt.poisson_distance_mm, "Poisson contouring accuracy [mm]", 1e-3, 10.0);
   int density_points = int(opt.density_reference_points);
   cli.option("-D", "--density-reference", &density_points,
-             "heads: thin a denser scan to the grid density of a scan of this many points, 0 = none", 0, 2000000000);
+             "heads: keep a seeded random subset of this many points of a denser scan, 0 = all", 0, 2000000000);
   cli.option("-P", "--projection-max-move", &opt.projection_max_move_mm,
              "Poisson: move output vertices onto the points by at most this [mm], 0 = off", 0.0, 50.0);
   bool onto_smoothed = false;
@@ -70,11 +70,11 @@ int main(int argc, char** argv) {
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
     pipeline::log("reconstruct", in + ": " + kind_unit.describe_unit(scan));
-    // 3. Meshes pass through unchanged (repair handles soups), clouds are reconstructed
+    // 3. Meshes pass through as they are, in mm (repair handles soups); clouds are reconstructed
     if (scan.is_mesh) {
       pipeline::log("reconstruct", in + ": is a mesh (" + std::to_string(scan.soup.polygons.size()) +
-                                       " faces), passed through unchanged");
-      scan2cad::write_soup_ply(out, scan.soup);
+                                       " faces), passed through unchanged but for the unit");
+      pipeline::write_polygon_soup(out, scan.soup);
       return 0;
     }
     scan2cad::ReconstructStats st;

@@ -92,7 +92,7 @@ struct OutlierOptions {
 /// the normal of their origin. Returns the number of points added.
 std::size_t add_outliers(PointCloud& cloud, const OutlierOptions& opt, Rng& rng);
 
-/// Everything a simulated scan does, in order: sample, holes, noise, outliers.
+/// Everything a simulated scan does, in order: sample, holes, outliers, noise.
 struct ScanOptions {
   std::size_t points = 200000;        ///< samples on the surface before holes and outliers
   double noise_mm = 0.2;              ///< Gaussian noise σ [mm]

@@ -12,10 +12,11 @@
 namespace scan2cad {
 
 pipeline::SurfaceMesh load_surface_any_unit(const std::string& path, double expected_size_mm,
-                                            double* unit_scale_to_mm) {
+                                            double* unit_scale_to_mm, pipeline::Unit unit) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   pipeline::ScanReadOptions ro;
   ro.expected_size_mm = expected_size_mm;
+  ro.unit = unit;
   pipeline::Scan scan = pipeline::read_scan(path, ro);
   if (!scan.is_mesh)
     throw pipeline::bad_input(path, "is a point cloud, expected a surface mesh (run reconstruct and repair first)");

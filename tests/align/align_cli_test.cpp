@@ -8,6 +8,7 @@
 #include <string>
 
 #include "../scratch_dir.h"
+#include "pipeline/read_json.h"
 
 namespace fs = std::filesystem;
 
@@ -71,4 +72,22 @@ TEST(align_cli, aligns_the_niosh_medium_headform) {
   std::ifstream f(dir / "a.json");
   const std::string json((std::istreambuf_iterator<char>(f)), {});
   EXPECT_NE(json.find("\"matrix\""), std::string::npos);
+}
+
+// A head in inches: the size alone reads it as cm (a 112 mm head, 2.54x too small but within the
+// detection window), on which align finds no forehead-chin profile (exit 3); --unit in reads it
+// right. An unknown unit is a usage error.
+TEST(align_cli, unit_option_forces_the_unit_the_size_cannot_tell) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string inches = (dir / "head_in.ply").string();
+  const std::string convert = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + SHARED_DATA_DIR +
+                              "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + inches +
+                              "', meshio.Mesh(m.points / 25.4, m.cells), binary=False)\" 2>/dev/null";
+  ASSERT_EQ(std::system(convert.c_str()), 0);
+  EXPECT_EQ(run("--in " + inches + outs()), 3) << err();
+  ASSERT_EQ(run("--in " + inches + " --unit in" + outs()), 0) << err();
+  EXPECT_EQ(pipeline::read_json((dir / "a.json").string()).at("unit_scale_to_mm").get<double>(), 25.4);
+  EXPECT_EQ(run("--in " + inches + " --unit parsec" + outs()), 1);
+  EXPECT_NE(err().find("parsec"), std::string::npos) << err();
 }

@@ -175,7 +175,7 @@ TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   {
     auto soup = pipeline::read_scan(niosh_medium).soup;
     for (auto& p : soup.points) p = pipeline::Point(p.x() / 25.4, p.y() / 25.4, p.z() / 25.4);
-    scan2cad::write_soup_ply(in, soup);
+    pipeline::write_polygon_soup(in, soup);
   }
   const std::string out = (dir / "niosh_in_rep.ply").string();
   const CliRun guessed = run("repair --in " + in + " --kind head --edge 4 --out " + out);
@@ -199,6 +199,13 @@ TEST(reconstruct_cli, a_mesh_passes_through_unchanged) {
   for (std::size_t i = 0; i < a.soup.points.size(); ++i)
     moved_mm = std::max(moved_mm, std::sqrt(CGAL::squared_distance(a.soup.points[i], b.soup.points[i])));
   EXPECT_EQ(moved_mm, 0.0);
+  // in the format --out names (it was PLY bytes whatever the name)
+  for (const char* ext : {".off", ".stl"}) {
+    const std::string named = (dir / (std::string("pass") + ext)).string();
+    ASSERT_EQ(run("reconstruct --in " + niosh_medium + " --kind head --out " + named).code, 0) << ext;
+    EXPECT_EQ(pipeline::read_scan(named, {pipeline::Unit::mm}).soup.polygons.size(), a.soup.polygons.size()) << ext;
+  }
+  EXPECT_EQ(bytes_of((dir / "pass.off").string()).substr(0, 3), "OFF");
 }
 
 TEST(repair_cli, niosh_medium_stl_comes_out_closed_manifold_and_clean) {
