@@ -23,6 +23,7 @@
 #include <omp.h>
 #endif
 
+#include "pipeline/cli.h"
 #include "solve/contact.h"
 #include "solve/make_block.h"
 
@@ -84,57 +85,61 @@ void on_1_and_2_threads(Body&& body) {
 
 }  // namespace
 
-int main() {
-  const int nx = 100, ny = 200, ns = 20000;
-  std::vector<double> x;
-  solve::ContactSpec spec;
-  spec.name = "bench";
-  auto height = [](double px, double py) { return 4 * std::sin(0.1 * px) * std::cos(0.07 * py); };
-  spec.master_tris = append_lattice(nx, ny, nx, ny, x);  // 1 mm cells
-  const int nm = int(x.size() / 3);
-  for (std::size_t i = 0; i < x.size(); i += 3) x[i + 2] = height(x[i], x[i + 1]);
-  std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(0, 1);
-  for (int j = 0; j < ns; ++j) {
-    const double px = nx * u(rng), py = ny * u(rng);
-    x.insert(x.end(), {px, py, height(px, py) + 0.5 * (u(rng) - 0.6)});
-    spec.slave_nodes.push_back(nm + j);
-  }
-  const std::size_t nn = std::size_t(nm + ns);
-  std::vector<double> v(3 * nn, 0.0), f(3 * nn, 0.0), mass(nn, 1e-3);
-  std::printf("contact search + force: %d slave nodes, %zu master triangles\n", ns, spec.master_tris.size());
-  on_1_and_2_threads([&](int threads) {
-    for (const bool rebuild : {false, true}) {
-      std::vector<double> xs = x;
-      solve::ContactPair pair(spec, nn);
-      // Margin is a quarter of the mean edge (~0.3 mm): ±1e-4 mm/step re-uses the grid, ±0.7 mm re-builds.
-      const auto [wall, cpu] = time_steps(pair, xs, v, mass, f, nm, rebuild ? 0.7 : 1e-4, 100);
-      std::printf("  threads %d, %-8s grid: %.2f ms/step wall, %.2f ms/step CPU (max penetration %.3f mm, "
-                  "resultant %.1f N)\n", threads, rebuild ? "rebuilt" : "re-used", wall, cpu, pair.max_penetration(),
-                  pair.resultant_force()[2]);
+int main(int argc, char** argv) {
+  pipeline::Cli cli("bench_contact", "Contact search and forces: 20,000 slave nodes over a 40,000-triangle wavy master "
+                                     "surface, on 1 and 2 threads. No options.");
+  return pipeline::run_main(cli, argc, argv, [&] {
+    const int nx = 100, ny = 200, ns = 20000;
+    std::vector<double> x;
+    solve::ContactSpec spec;
+    spec.name = "bench";
+    auto height = [](double px, double py) { return 4 * std::sin(0.1 * px) * std::cos(0.07 * py); };
+    spec.master_tris = append_lattice(nx, ny, nx, ny, x);  // 1 mm cells
+    const int nm = int(x.size() / 3);
+    for (std::size_t i = 0; i < x.size(); i += 3) x[i + 2] = height(x[i], x[i + 1]);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int j = 0; j < ns; ++j) {
+      const double px = nx * u(rng), py = ny * u(rng);
+      x.insert(x.end(), {px, py, height(px, py) + 0.5 * (u(rng) - 0.6)});
+      spec.slave_nodes.push_back(nm + j);
     }
+    const std::size_t nn = std::size_t(nm + ns);
+    std::vector<double> v(3 * nn, 0.0), f(3 * nn, 0.0), mass(nn, 1e-3);
+    std::printf("contact search + force: %d slave nodes, %zu master triangles\n", ns, spec.master_tris.size());
+    on_1_and_2_threads([&](int threads) {
+      for (const bool rebuild : {false, true}) {
+        std::vector<double> xs = x;
+        solve::ContactPair pair(spec, nn);
+        // Margin is a quarter of the mean edge (~0.3 mm): ±1e-4 mm/step re-uses the grid, ±0.7 mm re-builds.
+        const auto [wall, cpu] = time_steps(pair, xs, v, mass, f, nm, rebuild ? 0.7 : 1e-4, 100);
+        std::printf("  threads %d, %-8s grid: %.2f ms/step wall, %.2f ms/step CPU (max penetration %.3f mm, "
+                    "resultant %.1f N)\n", threads, rebuild ? "rebuilt" : "re-used", wall, cpu, pair.max_penetration(),
+                    pair.resultant_force()[2]);
+      }
+    });
+    // Segment-to-surface: the same master, a 142 × 142-cell slave surface lattice over it, its
+    // facets turned to face the master (−z), its nodes up to 0.3 mm into it as the node slaves.
+    std::vector<double> xf(x.begin(), x.begin() + 3 * std::ptrdiff_t(nm));
+    solve::ContactSpec seg = spec;
+    seg.slave_nodes.clear();
+    for (const auto& t : append_lattice(142, 142, nx, ny, xf)) seg.slave_tris.push_back({t[0], t[2], t[1]});
+    for (std::size_t i = 3 * std::size_t(nm); i < xf.size(); i += 3) {
+      seg.slave_nodes.push_back(int(i / 3));
+      xf[i + 2] = height(xf[i], xf[i + 1]) + 0.5 * (u(rng) - 0.6);
+    }
+    const std::size_t nf = xf.size() / 3;
+    std::vector<double> vf(3 * nf, 0.0), ff(3 * nf, 0.0), massf(nf, 1e-3);
+    std::printf("segment-to-surface: %zu slave nodes, %zu slave facets, %zu master triangles\n", seg.slave_nodes.size(),
+                seg.slave_tris.size(), seg.master_tris.size());
+    on_1_and_2_threads([&](int threads) {
+      std::vector<double> xs = xf;
+      solve::ContactPair pair(seg, nf);
+      const auto [wall, cpu] = time_steps(pair, xs, vf, massf, ff, nm, 1e-4, 10);
+      std::printf("  threads %d, %zu contact points, re-used grid: %.2f ms/step wall, %.2f ms/step CPU (max penetration "
+                  "%.3f mm, resultant %.1f N)\n", threads, pair.n_points(), wall, cpu, pair.max_penetration(),
+                  pair.resultant_force()[2]);
+    });
+    return 0;
   });
-  // Segment-to-surface: the same master, a 142 × 142-cell slave surface lattice over it, its
-  // facets turned to face the master (−z), its nodes up to 0.3 mm into it as the node slaves.
-  std::vector<double> xf(x.begin(), x.begin() + 3 * std::ptrdiff_t(nm));
-  solve::ContactSpec seg = spec;
-  seg.slave_nodes.clear();
-  for (const auto& t : append_lattice(142, 142, nx, ny, xf)) seg.slave_tris.push_back({t[0], t[2], t[1]});
-  for (std::size_t i = 3 * std::size_t(nm); i < xf.size(); i += 3) {
-    seg.slave_nodes.push_back(int(i / 3));
-    xf[i + 2] = height(xf[i], xf[i + 1]) + 0.5 * (u(rng) - 0.6);
-  }
-  const std::size_t nf = xf.size() / 3;
-  std::vector<double> vf(3 * nf, 0.0), ff(3 * nf, 0.0), massf(nf, 1e-3);
-  std::printf("segment-to-surface: %zu slave nodes, %zu slave facets, %zu master triangles\n", seg.slave_nodes.size(),
-              seg.slave_tris.size(), seg.master_tris.size());
-  on_1_and_2_threads([&](int threads) {
-    std::vector<double> xs = xf;
-    solve::ContactPair pair(seg, nf);
-    const auto [wall, cpu] = time_steps(pair, xs, vf, massf, ff, nm, 1e-4, 10);
-    std::printf("  threads %d, %zu contact points, re-used grid: %.2f ms/step wall, %.2f ms/step CPU (max penetration "
-                "%.3f mm, resultant %.1f N)\n", threads, pair.n_points(), wall, cpu, pair.max_penetration(),
-                pair.resultant_force()[2]);
-  });
-  return 0;
 }

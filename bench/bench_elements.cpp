@@ -3,7 +3,7 @@
 // ≥ 1.7× that on two). Also the cost of a whole solver step (forces, gather, constraints, update)
 // per element. A plain program (not Google Benchmark): it prints the figures the README quotes.
 //
-// Sample run:  bench_elements [n_cells_x=100] [seconds_per_case=2]
+// Sample run:  bench_elements --cells 100 --seconds 2
 #include <omp.h>
 
 #include <chrono>
@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "pipeline/cli.h"
 #include "solve/internal/elements.h"
 #include "solve/make_block.h"
 #include "solve/solver.h"
@@ -48,55 +49,61 @@ double rate(F&& f, double min_s, double* per_cpu_s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int nx = argc > 1 ? std::atoi(argv[1]) : 100;
-  const double min_s = argc > 2 ? std::atof(argv[2]) : 2.0;
-  solve::BlockSpec b;
-  b.type = solve::ElementType::wedge6;
-  b.nx = nx; b.ny = nx; b.nz = 10;
-  b.size = {double(nx), double(nx), 10};
-  b.jitter = 0.2;
-  solve::Model m = solve::make_block(b, {"fat", 1e-3, 0.015, 0.48, false});
-  const solve::internal::ElementBlock blk =
-      solve::internal::setup_block(m.parts[0], 0, m.materials[0], m.X.data(), 0.1, "bench");
-  const std::size_t ne = blk.size();
-  // a deformed state: uniform stretch plus noise, so every element does real work
-  std::vector<double> x = m.X;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> U(-0.01, 0.01);
-  for (std::size_t k = 0; k < x.size(); ++k) x[k] = 1.02 * x[k] + U(rng);
-  std::vector<double> fe(ne * 6 * 3);
-  double load[3] = {0, 0, 0};
-  getloadavg(load, 3);
-  std::printf("bench_elements: %zu wedges, %zu nodes; load average %.1f (wall figures need an idle machine)\n", ne,
-              m.n_nodes(), load[0]);
-  double r1 = 0;
-  for (int threads : {1, 2}) {
-    omp_set_num_threads(threads);
-    double cpu = 0;
-    const double calls = rate([&] { solve::internal::forces_for_elems(blk, x.data(), fe.data()); }, min_s, &cpu);
-    const double per_s = calls * double(ne);
-    if (threads == 1) r1 = per_s;
-    std::printf("element kernel, %d thread(s): %.2f M wedge updates/s wall, %.2f M per CPU-second%s\n", threads,
-                per_s / 1e6, cpu * double(ne) / 1e6,
-                threads == 1 ? "" : (" (wall speed-up " + std::to_string(per_s / r1).substr(0, 4) + ")").c_str());
-  }
-  // Whole steps of the solver (kernel + gather by node + constraints + velocity/position update).
-  m.bcs.push_back({"zmin", 2, solve::BcKind::fixed, {}});
-  m.control.end_time = 1e9;
-  double s1 = 0;
-  for (int threads : {1, 2}) {
-    omp_set_num_threads(threads);
-    solve::Solver s(m);
-    solve::SolverState st = s.state();
-    st.x = x;
-    s.set_state(st);
-    double cpu = 0;
-    const double steps = rate([&] { s.step(); }, min_s, &cpu);
-    const double per_s = steps * double(ne);
-    if (threads == 1) s1 = per_s;
-    std::printf("full solver step, %d thread(s): %.2f M wedge updates/s wall (%.1f ms/step), %.2f M per CPU-second%s\n",
-                threads, per_s / 1e6, 1e3 / steps, cpu * double(ne) / 1e6,
-                threads == 1 ? "" : (" (speed-up " + std::to_string(per_s / s1).substr(0, 4) + ")").c_str());
-  }
-  return 0;
+  int nx = 100;
+  double min_s = 2.0;
+  pipeline::Cli cli("bench_elements", "Wedge internal-force updates per second on 1 and 2 threads, and the cost of a whole "
+                                      "solver step, on a jittered block of wedges.");
+  cli.option("-n", "--cells", &nx, "cells along x and y (10 along z, 2 wedges each)", 2, 1000)
+      .option("-s", "--seconds", &min_s, "least time per measured case [s]", 0.01, 600.0);
+  return pipeline::run_main(cli, argc, argv, [&] {
+    solve::BlockSpec b;
+    b.type = solve::ElementType::wedge6;
+    b.nx = nx; b.ny = nx; b.nz = 10;
+    b.size = {double(nx), double(nx), 10};
+    b.jitter = 0.2;
+    solve::Model m = solve::make_block(b, {"fat", 1e-3, 0.015, 0.48, false});
+    const solve::internal::ElementBlock blk =
+        solve::internal::setup_block(m.parts[0], 0, m.materials[0], m.X.data(), 0.1, "bench");
+    const std::size_t ne = blk.size();
+    // a deformed state: uniform stretch plus noise, so every element does real work
+    std::vector<double> x = m.X;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> U(-0.01, 0.01);
+    for (std::size_t k = 0; k < x.size(); ++k) x[k] = 1.02 * x[k] + U(rng);
+    std::vector<double> fe(ne * 6 * 3);
+    double load[3] = {0, 0, 0};
+    getloadavg(load, 3);
+    std::printf("bench_elements: %zu wedges, %zu nodes; load average %.1f (wall figures need an idle machine)\n", ne,
+                m.n_nodes(), load[0]);
+    double r1 = 0;
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      double cpu = 0;
+      const double calls = rate([&] { solve::internal::forces_for_elems(blk, x.data(), fe.data()); }, min_s, &cpu);
+      const double per_s = calls * double(ne);
+      if (threads == 1) r1 = per_s;
+      std::printf("element kernel, %d thread(s): %.2f M wedge updates/s wall, %.2f M per CPU-second%s\n", threads,
+                  per_s / 1e6, cpu * double(ne) / 1e6,
+                  threads == 1 ? "" : (" (wall speed-up " + std::to_string(per_s / r1).substr(0, 4) + ")").c_str());
+    }
+    // Whole steps of the solver (kernel + gather by node + constraints + velocity/position update).
+    m.bcs.push_back({"zmin", 2, solve::BcKind::fixed, {}});
+    m.control.end_time = 1e9;
+    double s1 = 0;
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      solve::Solver s(m);
+      solve::SolverState st = s.state();
+      st.x = x;
+      s.set_state(st);
+      double cpu = 0;
+      const double steps = rate([&] { s.step(); }, min_s, &cpu);
+      const double per_s = steps * double(ne);
+      if (threads == 1) s1 = per_s;
+      std::printf("full solver step, %d thread(s): %.2f M wedge updates/s wall (%.1f ms/step), %.2f M per CPU-second%s\n",
+                  threads, per_s / 1e6, 1e3 / steps, cpu * double(ne) / 1e6,
+                  threads == 1 ? "" : (" (speed-up " + std::to_string(per_s / s1).substr(0, 4) + ")").c_str());
+    }
+    return 0;
+  });
 }
