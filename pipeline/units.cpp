@@ -51,4 +51,15 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
   throw bad_input(what, ss.str());
 }
 
+std::string describe_unit(Unit unit, bool detected, double extent_mm, const std::string& object, double expected_mm) {
+  std::ostringstream ss;
+  ss.setf(std::ios::fixed);
+  ss.precision(1);
+  ss << "unit " << unit_name(unit) << " (" << (detected ? "detected, --unit forces one" : "forced")
+     << "): largest extent " << extent_mm << " mm (a " << object << " is about ";
+  ss.precision(0);
+  ss << expected_mm << ")";
+  return ss.str();
+}
+
 }  // namespace pipeline

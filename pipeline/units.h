@@ -23,4 +23,11 @@ double mm_per_unit(Unit u);
 ///         extent is not positive and finite.
 Unit detect_unit(double extent, double expected_mm, const std::string& what);
 
+/// One log line on the unit a file was read in and the size that gives, so that a wrong guess
+/// shows: "unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)".
+/// Detection cannot tell cm from inches (a factor 2.54) when both give a plausible size.
+/// @param extent_mm  largest bounding-box extent after scaling [mm]
+/// @param object     what the file holds ("head", "respirator")
+std::string describe_unit(Unit unit, bool detected, double extent_mm, const std::string& object, double expected_mm);
+
 }  // namespace pipeline

@@ -9,7 +9,10 @@
 // Sample runs:
 //   align --in build/cases/medium_onesize/head/repaired.ply --kind head --out aligned.ply --transform align.json
 //   align --in ../shared/data/respirator-parts/Flex_Face_Seal_v9-M.stl --kind respirator --out r.ply -t r.json
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <Eigen/Dense>
+
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -38,7 +41,17 @@ int main(int argc, char** argv) {
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)
     progress.step("loading " + in);
     double scale = 1.0;
-    auto mesh = scan2cad::load_surface_any_unit(in, kind == scan2cad::AlignKind::head ? 250.0 : 130.0, &scale, unit);
+    const double expected_mm = kind == scan2cad::AlignKind::head ? 250.0 : 130.0;
+    auto mesh = scan2cad::load_surface_any_unit(in, expected_mm, &scale, unit);
+    // detection picks mm, cm or m only (pipeline::detect_unit), so the scale names the unit
+    const pipeline::Unit unit_read = unit != pipeline::Unit::automatic ? unit
+                                     : scale == 10.0                   ? pipeline::Unit::cm
+                                     : scale == 1000.0                 ? pipeline::Unit::m
+                                                                       : pipeline::Unit::mm;
+    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(mesh);
+    const double extent_mm = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()});
+    pipeline::log("align", in + ": " + pipeline::describe_unit(unit_read, unit == pipeline::Unit::automatic, extent_mm,
+                                                               kind_name, expected_mm));
     // 3. Align
     progress.step("symmetry plane and axes");
     scan2cad::AlignOptions opt;

@@ -488,13 +488,9 @@ pipeline::ScanReadOptions KindAndUnitOptions::read_options() const {
   return read;
 }
 std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const {
-  const bool detected = pipeline::parse_unit(unit_name) == pipeline::Unit::automatic;
-  const double extent_mm = pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points);
-  char line[200];
-  std::snprintf(line, sizeof line, "unit %s (%s): largest extent %.1f mm (a %s is about %.0f)",
-                pipeline::unit_name(scan.unit).c_str(), detected ? "detected, --unit forces one" : "forced",
-                extent_mm, kind_name.c_str(), expected_size_mm(kind()));
-  return line;
+  return pipeline::describe_unit(scan.unit, pipeline::parse_unit(unit_name) == pipeline::Unit::automatic,
+                                 pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points),
+                                 kind_name, expected_size_mm(kind()));
 }
 
 ReconstructMethod parse_reconstruct_method(const std::string& name, ScanKind kind) {

@@ -27,9 +27,7 @@ struct KindAndUnitOptions {
   ScanKind kind() const;
   /// @throws pipeline::Error(usage) on an unknown kind or unit.
   pipeline::ScanReadOptions read_options() const;
-  /// One line on the unit `scan` was read in and the size it gives, so a wrong guess shows:
-  /// "unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)".
-  /// Auto-detection cannot tell cm from inches (a factor 2.54) when both give a plausible size.
+  /// pipeline::describe_unit for `scan`, read with these options.
   std::string describe_unit(const pipeline::Scan& scan) const;
 };
 

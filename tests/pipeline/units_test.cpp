@@ -26,3 +26,10 @@ TEST(parse_unit, round_trips_names) {
   EXPECT_THROW(pipeline::parse_unit("furlong"), pipeline::Error);
   EXPECT_DOUBLE_EQ(pipeline::mm_per_unit(Unit::inch), 25.4);
 }
+
+TEST(describe_unit, names_the_unit_how_it_was_chosen_and_the_size_it_gives) {
+  EXPECT_EQ(pipeline::describe_unit(pipeline::Unit::cm, true, 112.54, "head", 250.0),
+            "unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)");
+  EXPECT_EQ(pipeline::describe_unit(pipeline::Unit::inch, false, 285.7, "respirator", 130.0),
+            "unit in (forced): largest extent 285.7 mm (a respirator is about 130)");
+}
