@@ -14,6 +14,8 @@ export BUILD
 help:
 	@echo "make case=<headform>_<respirator>   e.g. make case=medium_onesize (cases in data/cases/)"
 	@echo "   HEADFORM_SCAN=path RESPIRATOR_SCAN=path   swap in your own scans"
+	@echo "   LANDMARKS=file.json                       your own head landmarks (README.md, Stages)"
+	@echo "   BUILD=dir (default build)  JOBS=n (default 2: compile jobs and tests at once)"
 	@echo "make stages      build only the stage programs"
 	@echo "make test        build and run all tests (CTest)"
 	@echo "make test-fast   tests not labelled slow"
