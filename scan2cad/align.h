@@ -70,10 +70,10 @@ Eigen::Matrix4d read_align_transform(const std::string& path);
 /// Loads a user's surface file of any supported format and unit (pipeline::read_scan: mm, cm or
 /// m detected from the size unless `unit` names one; inches only when named) and makes a polygon
 /// mesh of it (CGAL repair_polygon_soup, orient, polygon_soup_to_polygon_mesh).
-/// `unit_scale_to_mm` receives the scale applied.
+/// `unit_read` receives the unit the file was read in (its scale: pipeline::mm_per_unit).
 /// @throws pipeline::Error(bad_input) naming `path` if it is a point cloud or not a usable mesh.
 pipeline::SurfaceMesh load_surface_any_unit(const std::string& path, double expected_size_mm,
-                                            double* unit_scale_to_mm = nullptr,
+                                            pipeline::Unit* unit_read = nullptr,
                                             pipeline::Unit unit = pipeline::Unit::automatic);
 
 }  // namespace scan2cad

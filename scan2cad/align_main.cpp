@@ -40,14 +40,10 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("align", 0);
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)
     progress.step("loading " + in);
-    double scale = 1.0;
     const double expected_mm = kind == scan2cad::AlignKind::head ? 250.0 : 130.0;
-    auto mesh = scan2cad::load_surface_any_unit(in, expected_mm, &scale, unit);
-    // detection picks mm, cm or m only (pipeline::detect_unit), so the scale names the unit
-    const pipeline::Unit unit_read = unit != pipeline::Unit::automatic ? unit
-                                     : scale == 10.0                   ? pipeline::Unit::cm
-                                     : scale == 1000.0                 ? pipeline::Unit::m
-                                                                       : pipeline::Unit::mm;
+    pipeline::Unit unit_read = pipeline::Unit::mm;
+    auto mesh = scan2cad::load_surface_any_unit(in, expected_mm, &unit_read, unit);
+    const double scale = pipeline::mm_per_unit(unit_read);
     const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(mesh);
     const double extent_mm = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()});
     pipeline::log("align", in + ": " + pipeline::describe_unit(unit_read, unit == pipeline::Unit::automatic, extent_mm,

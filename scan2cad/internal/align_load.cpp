@@ -12,7 +12,7 @@
 namespace scan2cad {
 
 pipeline::SurfaceMesh load_surface_any_unit(const std::string& path, double expected_size_mm,
-                                            double* unit_scale_to_mm, pipeline::Unit unit) {
+                                            pipeline::Unit* unit_read, pipeline::Unit unit) {
   namespace PMP = CGAL::Polygon_mesh_processing;
   pipeline::ScanReadOptions ro;
   ro.expected_size_mm = expected_size_mm;
@@ -20,7 +20,7 @@ pipeline::SurfaceMesh load_surface_any_unit(const std::string& path, double expe
   pipeline::Scan scan = pipeline::read_scan(path, ro);
   if (!scan.is_mesh)
     throw pipeline::bad_input(path, "is a point cloud, expected a surface mesh (run reconstruct and repair first)");
-  if (unit_scale_to_mm) *unit_scale_to_mm = pipeline::mm_per_unit(scan.unit);
+  if (unit_read) *unit_read = scan.unit;
   PMP::repair_polygon_soup(scan.soup.points, scan.soup.polygons);
   PMP::orient_polygon_soup(scan.soup.points, scan.soup.polygons);
   pipeline::SurfaceMesh mesh;

@@ -55,9 +55,9 @@ inline pipeline::SurfaceMesh posed_in_metres(pipeline::SurfaceMesh mesh, const E
   std::filesystem::create_directories(dir);
   const std::string path = (dir / (name + ".ply")).string();
   pipeline::write_surface_mesh(path, mesh);
-  double scale = 0.0;
-  auto back = scan2cad::load_surface_any_unit(path, expected_mm, &scale);
-  EXPECT_DOUBLE_EQ(scale, 1000.0) << "metres detected";
+  pipeline::Unit unit = pipeline::Unit::automatic;
+  auto back = scan2cad::load_surface_any_unit(path, expected_mm, &unit);
+  EXPECT_EQ(unit, pipeline::Unit::m) << "metres detected";
   return back;
 }
 

@@ -203,9 +203,9 @@ class RealPart : public ::testing::TestWithParam<const char*> {};
 TEST_P(RealPart, align_segment_and_fit_inner_face) {
   const std::string name = GetParam();
   const std::string path = std::string(SHARED_DATA_DIR) + "/respirator-parts/" + name + ".stl";
-  double scale = 0;
-  const Aligned a = aligned(scan2cad::load_surface_any_unit(path, 130.0, &scale));
-  EXPECT_EQ(scale, 1.0);  // mm
+  pipeline::Unit unit = pipeline::Unit::automatic;
+  const Aligned a = aligned(scan2cad::load_surface_any_unit(path, 130.0, &unit));
+  EXPECT_EQ(unit, pipeline::Unit::mm);
   EXPECT_GT(a.result.symmetry_inliers, 0.8);
   SurfaceMesh inner = a.mesh;
   layering::RespiratorSegmentInfo info;
