@@ -8,6 +8,7 @@
 #include <string>
 
 #include "../scratch_dir.h"
+#include "../last_line.h"
 #include "pipeline/read_json.h"
 
 namespace fs = std::filesystem;
@@ -52,10 +53,7 @@ TEST(align_cli, point_cloud_input_exits_2_naming_the_file_and_writes_nothing) {
   }
   EXPECT_EQ(run("--in " + xyz.string() + outs()), 2);
   // The last line is the error; before it come only the options and progress lines.
-  const std::string text = err();
-  std::string last = text.substr(0, text.find_last_not_of('\n') + 1);
-  last = last.substr(last.find_last_of('\n') + 1);
-  EXPECT_EQ(last, "align: " + xyz.string() + ": is a point cloud, expected a surface mesh (run reconstruct and repair first)");
+  EXPECT_EQ(last_line(err()), "align: " + xyz.string() + ": is a point cloud, expected a surface mesh (run reconstruct and repair first)");
   EXPECT_FALSE(fs::exists(dir / "a.ply"));
   EXPECT_FALSE(fs::exists(dir / "a.json"));
 }

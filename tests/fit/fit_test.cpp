@@ -4,7 +4,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,6 +14,7 @@
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
 #include "../niosh_medium_ply.h"
+#include "../last_line.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -81,9 +81,6 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_input) {
   const std::string respirator_like = (dir / "one_part.ply").string(), err = (dir / "err.txt").string();
   pipeline::write_surface_mesh(respirator_like, one_part);
   EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + respirator_like + " --kind head --out " + bad + " 2>" + err).c_str())), 2);
-  std::ifstream in(err);
-  std::string line, last;
-  while (std::getline(in, line)) last = line;
-  EXPECT_EQ(last, "fit: " + respirator_like + ": parts: no face of part forehead: a segmented head has all five (is this a respirator?)");
+  EXPECT_EQ(last_line_of(err), "fit: " + respirator_like + ": parts: no face of part forehead: a segmented head has all five (is this a respirator?)");
   EXPECT_FALSE(fs::exists(bad));
 }

@@ -18,6 +18,7 @@
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/reconstruct.h"
+#include "../last_line.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -65,8 +66,7 @@ void expect_rejected(const std::string& program, const std::string& in, const st
   fs::remove(out);
   const CliRun r = run(program + " --in " + in + " --kind head --out " + out);
   EXPECT_EQ(r.code, 2) << r.err;
-  std::string last = r.err.substr(0, r.err.find_last_not_of('\n') + 1);
-  last = last.substr(last.find_last_of('\n') + 1);
+  const std::string last = last_line(r.err);
   EXPECT_EQ(last.rfind(program + ": ", 0), 0u) << last;
   EXPECT_NE(last.find(in), std::string::npos) << "names the file: " << last;
   EXPECT_NE(last.find(must_say), std::string::npos) << last;

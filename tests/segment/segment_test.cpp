@@ -22,6 +22,7 @@
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "../niosh_medium_ply.h"
+#include "../last_line.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -93,9 +94,7 @@ TEST(segment_cli, a_head_given_as_a_respirator_is_rejected_naming_the_file) {
   const std::string dir = fs::path(ply).parent_path(), out = dir + "/head_as_respirator.ply", err = dir + "/err.txt";
   const int rc = std::system((std::string(BIN_DIR) + "/segment --in " + ply + " --kind respirator --out " + out + " 2> " + err).c_str());
   EXPECT_EQ(WEXITSTATUS(rc), 2);
-  std::ifstream in(err);
-  std::string line, last;
-  while (std::getline(in, line)) last = line;
+  const std::string last = last_line_of(err);
   EXPECT_EQ(last.rfind("segment: " + ply + ": respirator: its two sheets are 152 mm apart", 0), 0u) << last;
   EXPECT_FALSE(fs::exists(out));
 }
