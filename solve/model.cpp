@@ -66,8 +66,11 @@ void check_model(const Model& m) {
   auto bad = [&](const std::string& what) { return pipeline::bad_input(m.name, what); };
   const std::size_t n = m.n_nodes();
   if (n == 0) throw bad("no nodes");
-  for (double c : m.X)
-    if (!std::isfinite(c)) throw bad("non-finite node coordinate");
+  for (std::size_t i = 0; i < m.X.size(); ++i)
+    if (!std::isfinite(m.X[i])) {
+      const long tag = m.node_tags.size() == n ? m.node_tags[i / 3] : long(i / 3) + 1;
+      throw bad("node " + std::to_string(tag) + " has a non-finite coordinate");
+    }
   if (m.parts.empty()) throw bad("no parts: the deck assigns no material to any element group");
   for (const auto& mat : m.materials) {
     if (!(mat.density > 0)) throw bad("material '" + mat.name + "': density must be > 0");

@@ -2,6 +2,7 @@
 // one discrete entity + one named physical group per block).
 #include <gmsh.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -61,6 +62,11 @@ FeModel read_fe_model(const std::string& path) {
   std::map<std::size_t, int> index;
   for (std::size_t i = 0; i < tags.size(); ++i) {
     if (index.count(tags[i])) continue;
+    // Checked here because a NaN node slips through every later geometric test (comparisons
+    // with NaN are false) and surfaces as thinning failures or a floating-point trap.
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(xyz[3 * i + k]))
+        throw pipeline::bad_input(path, "node " + std::to_string(tags[i]) + " has a non-finite coordinate");
     index[tags[i]] = int(m.nodes.size());
     m.nodes.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
   }

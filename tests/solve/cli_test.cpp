@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -149,5 +150,15 @@ TEST(solve_cli, bad_msh_one_error_line_no_results) {
   EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
   fs::remove(c.dir + "/block.msh");
   EXPECT_EQ(c.solve("deck.json", "out"), 2);
+  EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+  // A NaN coordinate: gmsh reads it without complaint, so the model check must name the node.
+  solve::BlockSpec b;
+  solve::Model m = solve::make_block(b, {"skin", 1.2e-3, 0.6, 0.45, false});
+  m.X[3 * 4 + 1] = std::nan("");
+  solve::write_mesh_msh(m, c.dir + "/block.msh");
+  EXPECT_EQ(c.solve("deck.json", "out"), 2);
+  EXPECT_NE(c.read("err.txt").find("block.msh + " + c.dir + "/deck.json: node 5 has a non-finite coordinate"),
+            std::string::npos)
+      << c.read("err.txt");
   EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
 }
