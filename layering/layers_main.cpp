@@ -19,6 +19,7 @@
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
+#include "pipeline/units.h"
 
 int main(int argc, char** argv) {
   std::string in, materials, out, kind = "head", per_tissue, report_path;
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
     // 2. Load surface and stacks.
     const auto stacks = layering::read_stacks(materials, kind);
     const layering::FeModel surface = layering::read_fe_model(in);
+    pipeline::require_mm(in, pipeline::largest_extent(surface.nodes), kind);
     // 3. Layers.
     layering::LayerReport rep;
     const layering::FeModel model = layering::build_layers(surface, stacks, opt, &rep);

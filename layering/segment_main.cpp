@@ -15,6 +15,7 @@
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/units.h"
 #include "pipeline/write_mesh.h"
 
 int main(int argc, char** argv) {
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     layering::HeadLandmarks lm;
     if (kind == "head") lm = layering::internal::read_segment_landmarks(landmarks);
     pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);
+    pipeline::require_mm(in, pipeline::largest_extent(mesh.points()), kind);
     // 3. Segment
     progress.step("segmenting " + std::to_string(mesh.number_of_faces()) + " faces");
     std::vector<layering::PartStats> stats;

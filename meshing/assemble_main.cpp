@@ -16,6 +16,7 @@
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_json.h"
+#include "pipeline/units.h"
 
 int main(int argc, char** argv) {
   std::string head, resp, straps, landmarks, materials, out, deck1, deck2, state1 = "stage1/state.bin";
@@ -37,8 +38,11 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Load.
     const auto h = layering::read_fe_model(head);
+    pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");
     const auto r = layering::read_fe_model(resp);
+    pipeline::require_mm(resp, pipeline::largest_extent(r.nodes), "respirator");
     const auto s = layering::read_fe_model(straps);
+    pipeline::require_mm(straps, pipeline::largest_extent(s.nodes), "head");  // straps span the head
     const auto lm = meshing::read_landmarks(landmarks);
     const auto mat = pipeline::read_json(materials);
     // 2. Place and merge (checks the gap and that nothing intersects).

@@ -9,6 +9,7 @@
 #include "meshing/straps.h"
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
+#include "pipeline/units.h"
 
 int main(int argc, char** argv) {
   std::string head, landmarks, resp, out;
@@ -25,8 +26,10 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Load.
     const auto h = layering::read_fe_model(head);
+    pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");
     const auto lm = meshing::read_landmarks(landmarks);
     const auto r = layering::read_fe_model(resp);
+    pipeline::require_mm(resp, pipeline::largest_extent(r.nodes), "respirator");
     // 2. Lay the straps.
     meshing::StrapReport rep;
     const auto straps = meshing::make_straps(h, lm, r, opt, &rep);

@@ -17,6 +17,7 @@
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/units.h"
 
 int main(int argc, char** argv) {
   std::string in, out, kind = "head";
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     pipeline::Progress progress("surface_mesh", 0);
     const pipeline::SurfaceMesh fitted = pipeline::read_surface_mesh(in);
+    pipeline::require_mm(in, pipeline::largest_extent(fitted.points()), kind);
     struct Session {
       Session() { gmsh::initialize(); gmsh::option::setNumber("General.Terminal", 0); }
       ~Session() {

@@ -253,12 +253,6 @@ void scale_points(std::vector<Point>& pts, double s) {
 
 }  // namespace
 
-double largest_extent(const std::vector<Point>& points) {
-  if (points.empty()) return 0;
-  const auto bb = CGAL::bbox_3(points.begin(), points.end());
-  return std::max({bb.xmax() - bb.xmin(), bb.ymax() - bb.ymin(), bb.zmax() - bb.zmin()});
-}
-
 Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   check_file(path);
   const std::string ext = lower_extension(path);

@@ -11,7 +11,7 @@ namespace pipeline {
 
 struct ScanReadOptions {
   Unit unit = Unit::automatic;     ///< unit of the file; automatic guesses from the size
-  double expected_size_mm = 250.0; ///< real largest extent of the object (head ≈ 250, respirator ≈ 130)
+  double expected_size_mm = head_extent_mm; ///< real largest extent of the object (units.h)
 };
 
 /// A scan as read: either a polygon soup (is_mesh) or a point cloud, already scaled to mm.
@@ -35,8 +35,5 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt = {});
 /// keeping PLY vertex/face properties (e.g. "f:part").
 /// @throws Error(bad_input) if unreadable, empty, non-finite or not a 2-manifold polygon mesh.
 SurfaceMesh read_surface_mesh(const std::string& path);
-
-/// Largest extent of the axis-aligned bounding box of `points` [same unit as points].
-double largest_extent(const std::vector<Point>& points);
 
 }  // namespace pipeline

@@ -38,13 +38,25 @@ double mm_per_unit(Unit u) {
   throw Error(ErrorKind::usage, "mm_per_unit: 'auto' is not a unit");
 }
 
+double expected_extent_mm(const std::string& kind) {
+  if (kind == "head") return head_extent_mm;
+  if (kind == "respirator") return respirator_extent_mm;
+  throw Error(ErrorKind::usage, "--kind: '" + kind + "', expected head or respirator");
+}
+
+namespace {
+// The window both the unit guess and the mm check accept: a factor 4 either way leaves room for
+// small and large heads and respirators, and still tells mm from cm (10x) and inches (25x).
+bool plausible_size(double size_mm, double expected_mm) {
+  return size_mm > expected_mm / 4 && size_mm < expected_mm * 4;
+}
+}  // namespace
+
 Unit detect_unit(double extent, double expected_mm, const std::string& what) {
   if (!(extent > 0) || !std::isfinite(extent))
     throw bad_input(what, "bounding box has no extent (" + std::to_string(extent) + ")");
-  for (Unit u : {Unit::mm, Unit::cm, Unit::m}) {
-    const double size_mm = extent * mm_per_unit(u);
-    if (size_mm > expected_mm / 4 && size_mm < expected_mm * 4) return u;
-  }
+  for (Unit u : {Unit::mm, Unit::cm, Unit::m})
+    if (plausible_size(extent * mm_per_unit(u), expected_mm)) return u;
   std::ostringstream ss;
   ss << "cannot tell the length unit: largest extent " << extent << " is neither mm, cm nor m for an object of about "
      << expected_mm << " mm (force one with --unit)";
@@ -60,6 +72,15 @@ std::string describe_unit(Unit unit, bool detected, double extent_mm, const std:
   ss.precision(0);
   ss << expected_mm << ")";
   return ss.str();
+}
+
+void require_mm(const std::string& path, double extent_mm, const std::string& kind) {
+  const double expected_mm = expected_extent_mm(kind);
+  if (plausible_size(extent_mm, expected_mm)) return;
+  std::ostringstream ss;
+  ss << "largest extent " << extent_mm << " mm, but a " << kind << " is about " << expected_mm
+     << " mm: this stage reads mm only (align detects and converts the unit of a scan)";
+  throw bad_input(path, ss.str());
 }
 
 }  // namespace pipeline

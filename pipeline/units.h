@@ -1,9 +1,35 @@
 #pragma once
 /// Length units of scans. The whole project works in mm (DESIGN.md); a scan in another unit is
 /// scaled once, when it is read.
+#include <algorithm>
+#include <limits>
 #include <string>
 
 namespace pipeline {
+
+/// Real largest bounding-box extents of the objects the pipeline handles [mm]: a head with its
+/// neck, a respirator cup. Unit detection, and the mm check of the stages after align, compare
+/// sizes with these.
+inline constexpr double head_extent_mm = 250.0;
+inline constexpr double respirator_extent_mm = 130.0;
+
+/// head_extent_mm for "head", respirator_extent_mm for "respirator". @throws Error(usage) otherwise.
+double expected_extent_mm(const std::string& kind);
+
+/// Largest extent of the axis-aligned bounding box of `points`, any range of points with p[0..2]
+/// (CGAL points, Eigen vectors) [same unit as the points]; 0 for no points.
+template <class PointRange>
+double largest_extent(const PointRange& points) {
+  double lo[3], hi[3];
+  std::fill(lo, lo + 3, std::numeric_limits<double>::infinity());
+  std::fill(hi, hi + 3, -std::numeric_limits<double>::infinity());
+  bool any = false;
+  for (const auto& p : points) {
+    any = true;
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], double(p[k])), hi[k] = std::max(hi[k], double(p[k]));
+  }
+  return any ? std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) : 0.0;
+}
 
 enum class Unit { automatic, mm, cm, m, inch };
 
@@ -29,5 +55,16 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what);
 /// @param extent_mm  largest bounding-box extent after scaling [mm]
 /// @param object     what the file holds ("head", "respirator")
 std::string describe_unit(Unit unit, bool detected, double extent_mm, const std::string& object, double expected_mm);
+
+/// The stages after align read files in mm only (align detects and converts the unit of a scan).
+/// A file in m, cm or inches given to them otherwise fails far from its cause: no chin found, a
+/// 10-triangle "fit" written with exit 0, 60 layer-thinning passes. This checks the size the way
+/// detect_unit does: the largest extent must be within a factor 4 of the object's real size.
+///
+/// @param[in] path       file the object was read from, for the message
+/// @param[in] extent_mm  largest bounding-box extent of what it holds, taken as mm
+/// @param[in] kind       "head" or "respirator"
+/// @throws Error(bad_input) naming `path` when the size is implausible in mm.
+void require_mm(const std::string& path, double extent_mm, const std::string& kind);
 
 }  // namespace pipeline

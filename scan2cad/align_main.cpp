@@ -9,10 +9,8 @@
 // Sample runs:
 //   align --in build/cases/medium_onesize/head/repaired.ply --kind head --out aligned.ply --transform align.json
 //   align --in ../shared/data/respirator-parts/Flex_Face_Seal_v9-M.stl --kind respirator --out r.ply -t r.json
-#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <Eigen/Dense>
 
-#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -40,12 +38,11 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("align", 0);
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)
     progress.step("loading " + in);
-    const double expected_mm = kind == scan2cad::AlignKind::head ? 250.0 : 130.0;
+    const double expected_mm = pipeline::expected_extent_mm(kind_name);
     pipeline::Unit unit_read = pipeline::Unit::mm;
     auto mesh = scan2cad::load_surface_any_unit(in, expected_mm, &unit_read, unit);
     const double scale = pipeline::mm_per_unit(unit_read);
-    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(mesh);
-    const double extent_mm = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()});
+    const double extent_mm = pipeline::largest_extent(mesh.points());
     pipeline::log("align", in + ": " + pipeline::describe_unit(unit_read, unit == pipeline::Unit::automatic, extent_mm,
                                                                kind_name, expected_mm));
     // 3. Align

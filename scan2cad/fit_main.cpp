@@ -17,6 +17,7 @@
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/units.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
 
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
       throw pipeline::Error(pipeline::ErrorKind::usage, "--out: '" + out + "' must end in .ply or .msh");
     pipeline::Progress progress("fit", 0);
     const pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);
+    pipeline::require_mm(in, pipeline::largest_extent(mesh.points()), kind);
     // 2. Fit
     progress.step("remeshing the parts");
     std::size_t refined_faces = 0;

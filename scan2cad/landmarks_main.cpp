@@ -16,6 +16,7 @@
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/units.h"
 #include "scan2cad/landmarks.h"
 
 int main(int argc, char** argv) {
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
     // 1. Input (run_main has logged the options)
     pipeline::Progress progress("landmarks", 0);
     const auto head = pipeline::read_surface_mesh(in);
+    pipeline::require_mm(in, pipeline::largest_extent(head.points()), "head");
     // 2. Detect, or validate the user's file against the head
     scan2cad::Landmarks l;
     if (user.empty()) {

@@ -474,7 +474,7 @@ ScanKind parse_scan_kind(const std::string& name) {
   throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: '" + name + "', expected head or respirator");
 }
 std::string scan_kind_name(ScanKind k) { return k == ScanKind::head ? "head" : "respirator"; }
-double expected_size_mm(ScanKind k) { return k == ScanKind::head ? 250.0 : 130.0; }
+double expected_size_mm(ScanKind k) { return pipeline::expected_extent_mm(scan_kind_name(k)); }
 
 void KindAndUnitOptions::add_to(pipeline::Cli& cli, const std::string& kind_help) {
   cli.option("-k", "--kind", &kind_name, kind_help);

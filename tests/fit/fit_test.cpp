@@ -61,7 +61,7 @@ TEST(remesh_parts, niosh_medium_fit_within_deviation_budget) {
   }
 }
 
-TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_input) {
+TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
   const std::string plain = niosh_medium_ply();
   const std::string seg = (dir / "seg.ply").string(), out = (dir / "fitted.ply").string();
   pipeline::write_surface_mesh(seg, segmented_medium());
@@ -82,5 +82,15 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_input) {
   pipeline::write_surface_mesh(respirator_like, one_part);
   EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + respirator_like + " --kind head --out " + bad + " 2>" + err).c_str())), 2);
   EXPECT_EQ(last_line_of(err), "fit: " + respirator_like + ": parts: no face of part forehead: a segmented head has all five (is this a respirator?)");
+  EXPECT_FALSE(fs::exists(bad));
+  // The head in metres: fit wrote a 10-triangle "fit" with exit 0; now one line names the file.
+  pipeline::SurfaceMesh in_metres = segmented_medium();
+  for (auto v : in_metres.vertices()) in_metres.point(v) = CGAL::ORIGIN + (in_metres.point(v) - CGAL::ORIGIN) * 1e-3;
+  const std::string metres = (dir / "metres.ply").string();
+  pipeline::write_surface_mesh(metres, in_metres);
+  EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + metres + " --out " + bad + " 2>" + err).c_str())), 2);
+  const std::string line = last_line_of(err);
+  EXPECT_EQ(line.rfind("fit: " + metres + ": largest extent 0.2", 0), 0u) << line;
+  EXPECT_NE(line.find("but a head is about 250 mm: this stage reads mm only"), std::string::npos) << line;
   EXPECT_FALSE(fs::exists(bad));
 }

@@ -1,8 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
+
 #include <cmath>
+#include <vector>
 
 #include "pipeline/error.h"
+#include "pipeline/surface_mesh.h"
 #include "pipeline/units.h"
 
 using pipeline::Unit;
@@ -32,4 +36,33 @@ TEST(describe_unit, names_the_unit_how_it_was_chosen_and_the_size_it_gives) {
             "unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)");
   EXPECT_EQ(pipeline::describe_unit(pipeline::Unit::inch, false, 285.7, "respirator", 130.0),
             "unit in (forced): largest extent 285.7 mm (a respirator is about 130)");
+}
+
+// Stages after align read mm only: a head written in m, cm or inches is bad input naming the
+// file; the NIOSH heads (largest extent 286 mm), a small respirator (~90 mm) and a large head
+// pass. The window is detect_unit's: a factor 4 either way of the object's real size.
+TEST(require_mm, rejects_a_head_in_m_cm_or_inches_and_names_the_file) {
+  EXPECT_NO_THROW(pipeline::require_mm("h.ply", 285.7, "head"));
+  EXPECT_NO_THROW(pipeline::require_mm("h.ply", 400, "head"));
+  EXPECT_NO_THROW(pipeline::require_mm("r.msh", 90, "respirator"));
+  for (double extent : {0.2857, 28.57, 285.7 / 25.4, 285.7 * 10, 0.0, std::nan("")}) {
+    try {
+      pipeline::require_mm("h.ply", extent, "head");
+      ADD_FAILURE() << extent << " mm passed as a head";
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      EXPECT_EQ(std::string(e.what()).rfind("h.ply: largest extent ", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find("a head is about 250 mm"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(pipeline::require_mm("r.msh", 28.57, "respirator"), pipeline::Error);
+  EXPECT_THROW(pipeline::expected_extent_mm("hat"), pipeline::Error);
+}
+
+TEST(largest_extent, of_cgal_points_and_eigen_vectors) {
+  const std::vector<pipeline::Point> p = {{0, 0, 0}, {3, -5, 1}, {1, 2, 2}};
+  EXPECT_DOUBLE_EQ(pipeline::largest_extent(p), 7.0);
+  const std::vector<Eigen::Vector3d> e = {{0, 0, 0}, {3, -1, 9}};
+  EXPECT_DOUBLE_EQ(pipeline::largest_extent(e), 9.0);
+  EXPECT_DOUBLE_EQ(pipeline::largest_extent(std::vector<pipeline::Point>{}), 0.0);
 }
