@@ -211,8 +211,8 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
   if (report) *report = r;
   if (r.intersecting_pairs || r.gap_mm < opt.gap_mm - 0.01 || r.strap_gap_mm <= 0)
     throw pipeline::algorithm_failed("assemble", "initial penetration: " + std::to_string(r.intersecting_pairs) +
-                                                     " face pairs intersect (" + groups + " ), gap " + std::to_string(r.gap_mm) +
-                                                     " mm, strap gap " + std::to_string(r.strap_gap_mm) + " mm");
+                                                     " face pairs intersect (" + groups + " ), gap " + pipeline::format_number(r.gap_mm) +
+                                                     " mm, strap gap " + pipeline::format_number(r.strap_gap_mm) + " mm");
   return out;
 }
 

@@ -55,7 +55,7 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
   Eigen::Vector3d back(0, back_y, 1e300);
   for (const auto& p : head.nodes)
     if (std::abs(p.x()) < 8 && std::abs(p.y() - back_y) < 6 && p.z() < back.z()) back = p;
-  if (back.z() > 1e299) throw pipeline::bad_input("head", name + ": no skin at the back of the head at y = " + std::to_string(back_y));
+  if (back.z() > 1e299) throw pipeline::bad_input("head", name + ": no skin at the back of the head at y = " + pipeline::format_number(back_y));
   const Eigen::Vector3d mid = 0.5 * (a.left + a.right), o = 0.5 * (mid + back);
   const Eigen::Vector3d u = (a.left - a.right).normalized();
   Eigen::Vector3d w = back - o;
@@ -157,7 +157,7 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
     if ((path[i] - back).norm() < (path[ib] - back).norm()) ib = i;
   const double s0 = s[ib] - 0.5 * opt.length_mm, s1 = s[ib] + 0.5 * opt.length_mm;
   if (s0 < 0 || s1 > s.back())
-    throw pipeline::bad_input("straps", name + ": length " + std::to_string(opt.length_mm) + " mm exceeds the head outline between its attachment points (" + std::to_string(s.back()) + " mm)");
+    throw pipeline::bad_input("straps", name + ": length " + pipeline::format_number(opt.length_mm) + " mm exceeds the head outline between its attachment points (" + pipeline::format_number(s.back()) + " mm)");
   const int n = std::max(2, int(std::ceil(opt.length_mm / opt.element_mm)));
   const int base = int(out->nodes.size());
   // Nodes: n+1 stations × 3 across the width (centre and both edges).
@@ -257,7 +257,7 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
     if (pass == 11) {
       const Eigen::Vector3d& q = out.nodes[*push.begin()];
       throw pipeline::algorithm_failed("straps", std::to_string(push.size()) + " strap nodes still on faces crossing the skin, e.g. near (" +
-                                                     std::to_string(q.x()) + ", " + std::to_string(q.y()) + ", " + std::to_string(q.z()) + ") mm");
+                                                     pipeline::format_number(q.x()) + ", " + pipeline::format_number(q.y()) + ", " + pipeline::format_number(q.z()) + ") mm");
     }
     for (int v : push) {
       Eigen::Vector3d cp;

@@ -10,12 +10,6 @@ namespace pipeline {
 
 namespace {
 
-std::string fmt_double(double v) {
-  std::ostringstream ss;
-  ss << v;
-  return ss.str();
-}
-
 double parse_double(const std::string& flag, const std::string& s) {
   std::size_t pos = 0;
   double v = 0;
@@ -50,11 +44,11 @@ Cli& Cli::option(const std::string& s, const std::string& l, double* value, cons
   o.set = [value, l, min, max](const std::string& v) {
     const double d = parse_double(l, v);
     if (d < min || d > max)
-      throw Error(ErrorKind::usage, l + ": " + v + " is out of range [" + fmt_double(min) + ", " +
-                                        fmt_double(max) + "]");
+      throw Error(ErrorKind::usage, l + ": " + v + " is out of range [" + format_number(min) + ", " +
+                                        format_number(max) + "]");
     *value = d;
   };
-  o.get = [value] { return fmt_double(*value); };
+  o.get = [value] { return format_number(*value); };
   opts_.push_back(o);
   return *this;
 }

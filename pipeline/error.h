@@ -1,6 +1,7 @@
 #pragma once
 /// Errors of the pipeline. Library code throws pipeline::Error; only a stage's main()
 /// maps the kind to an exit code (see run_main in cli.h).
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +21,13 @@ struct Error : std::runtime_error {
   ErrorKind kind;
   Error(ErrorKind k, const std::string& message) : std::runtime_error(message), kind(k) {}
 };
+
+/// A number as a message shows it: 0.1206, 1e+300, 250 (std::to_string gives 0.120600).
+inline std::string format_number(double v) {
+  std::ostringstream ss;
+  ss << v;
+  return ss.str();
+}
 
 inline Error bad_input(const std::string& what, const std::string& problem) {
   return Error(ErrorKind::bad_input, what + ": " + problem);

@@ -61,7 +61,7 @@ Landmarks read_landmarks(const std::string& path) {
     if (!p.position.allFinite()) throw pipeline::bad_input(path, what + ": non-finite position");
     p.confidence = v.contains("confidence") && v["confidence"].is_number() ? v["confidence"].get<double>() : 1.0;
     if (!(p.confidence >= 0.0 && p.confidence <= 1.0))
-      throw pipeline::bad_input(path, what + ": confidence " + std::to_string(p.confidence) + ", expected 0..1");
+      throw pipeline::bad_input(path, what + ": confidence " + pipeline::format_number(p.confidence) + ", expected 0..1");
     l.points[name] = p;
   }
   for (const auto& name : required_landmarks())
@@ -70,7 +70,7 @@ Landmarks read_landmarks(const std::string& path) {
     const bool left = name.size() > 5 && name.compare(name.size() - 5, 5, "_left") == 0;
     const bool right = name.size() > 6 && name.compare(name.size() - 6, 6, "_right") == 0;
     if ((left && p.position.x() <= 0.0) || (right && p.position.x() >= 0.0))
-      throw pipeline::bad_input(path, "landmark " + name + ": x = " + std::to_string(p.position.x()) +
+      throw pipeline::bad_input(path, "landmark " + name + ": x = " + pipeline::format_number(p.position.x()) +
                                           ", expected " + (left ? "> 0 (subject's left is +x)" : "< 0 (subject's right is -x)"));
   }
   return l;

@@ -83,13 +83,13 @@ ContactPair::ContactPair(ContactSpec spec, std::size_t n_nodes)
   const std::string what = "contact pair '" + spec_.name + "'";
   if (spec_.master_tris.empty()) throw pipeline::bad_input(what, "no master triangles");
   if (!(spec_.penalty_scale > 0 && spec_.penalty_scale <= 1))
-    throw pipeline::bad_input(what, "penalty scale " + std::to_string(spec_.penalty_scale) +
+    throw pipeline::bad_input(what, "penalty scale " + pipeline::format_number(spec_.penalty_scale) +
                                         ", expected in (0, 1]");
   if (!(spec_.damping_ratio >= 0 && spec_.damping_ratio <= 1))
-    throw pipeline::bad_input(what, "damping ratio " + std::to_string(spec_.damping_ratio) +
+    throw pipeline::bad_input(what, "damping ratio " + pipeline::format_number(spec_.damping_ratio) +
                                         ", expected in [0, 1]");
   if (!(spec_.friction >= 0))
-    throw pipeline::bad_input(what, "friction " + std::to_string(spec_.friction) + ", expected >= 0");
+    throw pipeline::bad_input(what, "friction " + pipeline::format_number(spec_.friction) + ", expected >= 0");
   for (int s : spec_.slave_nodes)
     if (s < 0 || std::size_t(s) >= n_nodes)
       throw pipeline::bad_input(what, "slave node " + std::to_string(s) + " out of range [0, " +

@@ -153,7 +153,10 @@ const std::array<Range, 8> kFields{{{"face_length", &HeadParams::face_length, 80
 }  // namespace
 
 HeadParams read_head_params(const std::string& path, const std::string& id) {
-  const nlohmann::json j = pipeline::read_json(path);
+  return head_params_from_json(pipeline::read_json(path), path, id);
+}
+
+HeadParams head_params_from_json(const nlohmann::json& j, const std::string& path, const std::string& id) {
   if (!j.contains("headforms") || !j["headforms"].is_object())
     throw pipeline::bad_input(path, "no \"headforms\" object");
   if (!j["headforms"].contains(id)) {
@@ -168,9 +171,9 @@ HeadParams read_head_params(const std::string& path, const std::string& id) {
       throw pipeline::bad_input(path, "headform '" + id + "': missing number \"" + r.name + "\"");
     const double v = h[r.name].get<double>();
     if (!(v >= r.lo && v <= r.hi))
-      throw pipeline::bad_input(path, "headform '" + id + "': " + r.name + " = " + std::to_string(v) +
-                                          " mm, expected " + std::to_string(int(r.lo)) + ".." +
-                                          std::to_string(int(r.hi)));
+      throw pipeline::bad_input(path, "headform '" + id + "': " + r.name + " = " + pipeline::format_number(v) +
+                                          " mm, expected " + pipeline::format_number(r.lo) + ".." +
+                                          pipeline::format_number(r.hi));
     p.*(r.field) = v;
   }
   return p;

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "data/generator/measure_head.h"
 #include "data/generator/scanner_artifacts.h"
 
@@ -33,6 +35,8 @@ struct HeadParams {
 /// @throws Error(bad_input) naming the file: unreadable, not JSON, unknown id (listing the
 ///         known ones), a missing field or a value outside its plausible range.
 HeadParams read_head_params(const std::string& path, const std::string& id);
+/// The same from a params file already parsed (`path` names it in errors).
+HeadParams head_params_from_json(const nlohmann::json& params, const std::string& path, const std::string& id);
 
 /// The implicit head. value(p) < 0 inside, > 0 outside (not a distance).
 class HeadShape {

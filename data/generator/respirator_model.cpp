@@ -10,8 +10,7 @@
 namespace generator {
 
 RespiratorParams read_respirator_params(const std::string& path, const std::string& id, HeadParams* face) {
-  *face = read_head_params(path, "average");
-  const nlohmann::json j = pipeline::read_json(path);  // valid: read above
+  const nlohmann::json j = pipeline::read_json(path);
   if (!j.contains("respirators") || !j["respirators"].is_object())
     throw pipeline::bad_input(path, "no \"respirators\" object");
   if (!j["respirators"].contains(id)) {
@@ -31,9 +30,10 @@ RespiratorParams read_respirator_params(const std::string& path, const std::stri
     }
     if (!r[f.name].is_number() || !(r[f.name].get<double>() >= f.lo && r[f.name].get<double>() <= f.hi))
       throw pipeline::bad_input(path, "respirator '" + id + "': \"" + f.name + "\" must be a number in [" +
-                                          std::to_string(f.lo) + ", " + std::to_string(f.hi) + "] mm");
+                                          pipeline::format_number(f.lo) + ", " + pipeline::format_number(f.hi) + "] mm");
     *f.v = r[f.name].get<double>();
   }
+  *face = head_params_from_json(j, path, "average");  // the face the cups sit on, in the same file
   return p;
 }
 
@@ -51,8 +51,8 @@ Triangles make_respirator(const RespiratorParams& p, const HeadShape& face) {
   auto face_z = [&](double x, double y) {
     Point h;
     if (!face.front_hit(x, y, &h))
-      throw pipeline::algorithm_failed("respirator", "point (" + std::to_string(x) + ", " +
-                                                         std::to_string(y) + ") misses the face");
+      throw pipeline::algorithm_failed("respirator", "point (" + pipeline::format_number(x) + ", " +
+                                                         pipeline::format_number(y) + ") misses the face");
     return h.z();
   };
   const double pi = 3.14159265358979323846;

@@ -206,7 +206,7 @@ std::vector<Hole> random_holes(const PointCloud& cloud, const Triangles& tri, in
 std::size_t add_outliers(PointCloud& cloud, const OutlierOptions& opt, Rng& rng) {
   if (!(opt.fraction >= 0 && opt.fraction < 0.5))
     throw pipeline::Error(pipeline::ErrorKind::usage,
-                          "outlier fraction " + std::to_string(opt.fraction) + " out of range [0, 0.5)");
+                          "outlier fraction " + pipeline::format_number(opt.fraction) + " out of range [0, 0.5)");
   const std::size_t n = cloud.points.size();
   if (n == 0 || opt.fraction == 0) return 0;
   const bool normals = cloud.normals.size() == n;

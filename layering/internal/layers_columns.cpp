@@ -232,8 +232,8 @@ void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline:
       const double q = triangle_quality(x, p.tris[e]);
       if (q < opt.min_scaled_jacobian)
         throw pipeline::bad_input("surface", "part " + p.name + " triangle " + std::to_string(e) +
-                                                 " too distorted for wedges: shape quality " + std::to_string(q) +
-                                                 ", expected >= " + std::to_string(opt.min_scaled_jacobian) +
+                                                 " too distorted for wedges: shape quality " + pipeline::format_number(q) +
+                                                 ", expected >= " + pipeline::format_number(opt.min_scaled_jacobian) +
                                                  " (remesh the surface)");
     }
   const auto nbr = skin_neighbours(in);

@@ -47,11 +47,11 @@ HeadLandmarks read_segment_landmarks(const std::string& path) {
     throw pipeline::bad_input(path, "left landmarks must have x > 0 and right ones x < 0 "
                                     "(subject's left is +x): is the head aligned?");
   if (s.menton[1] >= s.sellion[1] - 30.0)
-    throw pipeline::bad_input(path, "menton y " + std::to_string(s.menton[1]) +
+    throw pipeline::bad_input(path, "menton y " + pipeline::format_number(s.menton[1]) +
                                         " not at least 30 mm below sellion y " +
-                                        std::to_string(s.sellion[1]) + ": is the head aligned (y up)?");
+                                        pipeline::format_number(s.sellion[1]) + ": is the head aligned (y up)?");
   if (s.pronasale[1] >= s.sellion[1] || s.pronasale[1] <= s.menton[1])
-    throw pipeline::bad_input(path, "pronasale y " + std::to_string(s.pronasale[1]) +
+    throw pipeline::bad_input(path, "pronasale y " + pipeline::format_number(s.pronasale[1]) +
                                         " not between menton and sellion: are the landmarks swapped?");
   return s;
 }

@@ -420,8 +420,8 @@ void check_landmarks_on_surface(const Landmarks& l, const SurfaceMesh& head, con
   for (const auto& [name, p] : l.points) {
     const double d = std::sqrt(tree.squared_distance(pipeline::Point(p.position.x(), p.position.y(), p.position.z())));
     if (d > tol)
-      throw pipeline::bad_input(what, "landmark " + name + " is " + std::to_string(d) + " mm from the head surface, expected <= " +
-                                          std::to_string(tol) + " mm (same frame as the aligned head?)");
+      throw pipeline::bad_input(what, "landmark " + name + " is " + pipeline::format_number(d) + " mm from the head surface, expected <= " +
+                                          pipeline::format_number(tol) + " mm (same frame as the aligned head?)");
   }
 }
 

@@ -60,7 +60,7 @@ Constraints build_constraints(const Model& m, const std::vector<char>& rigid_nod
       if (best < 0 || std::sqrt(bd) > t.tolerance)
         throw pipeline::bad_input(m.name, "tie '" + t.name + "': node " + std::to_string(i) + " of '" + t.group_a +
                                               "' has no node of '" + t.group_b + "' within " +
-                                              std::to_string(t.tolerance) + " mm");
+                                              pipeline::format_number(t.tolerance) + " mm");
       uf.unite(i, best);
     }
   }

@@ -169,7 +169,7 @@ ElementBlock setup_block(const Part& part, int part_index, const Material& mat, 
       if (!(det > 1e-14 * std::pow(Xe.cwiseAbs().maxCoeff() + 1e-300, d)))
         throw pipeline::bad_input(model_name, "part '" + part.name + "': " + element_name(part.type) + " element " +
                                                   std::to_string(e) + " is inverted or degenerate (Jacobian " +
-                                                  std::to_string(det) + ")");
+                                                  pipeline::format_number(det) + ")");
       bsum += dN[k] * Jm.inverse() * (det * qp[k].w);  // ∂N/∂X = ∂N/∂ξ J⁻¹
       V += det * qp[k].w;
     }

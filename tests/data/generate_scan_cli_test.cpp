@@ -69,6 +69,21 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 20:10 --out " + tmp + "/x.ply"), 1);
   EXPECT_EQ(run("--from-mesh /nonexistent.stl --out " + tmp + "/x.ply"), 2);
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
+  // The headforms file given for a cup: the error named the cups' 'average' face, which that file
+  // lacks; now it names what is missing.
+  const std::string headforms = std::string(SOURCE_DIR) + "/data/generator/headforms.json";
+  EXPECT_EQ(run("--kind respirator --id onesize --params " + headforms + " --out " + tmp + "/x.ply"), 2);
+  EXPECT_NE(slurp(tmp + "/stderr.txt").find(headforms + ": no \"respirators\" object"), std::string::npos)
+      << slurp(tmp + "/stderr.txt");
+  // A dimension in metres is out of range and shown as written (was 0.120600).
+  std::string text = slurp(headforms);
+  text.replace(text.find("\"face_length\": 120.6"), 20, "\"face_length\": 0.1206");
+  std::ofstream(tmp + "/metres.json") << text;
+  EXPECT_EQ(run("--kind head --id medium --params " + tmp + "/metres.json --out " + tmp + "/x.ply"), 2);
+  EXPECT_NE(slurp(tmp + "/stderr.txt").find("metres.json: headform 'medium': face_length = 0.1206 mm, expected 80..170"),
+            std::string::npos)
+      << slurp(tmp + "/stderr.txt");
+  EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
 }
 
 // data/generator/render_views.py, with which the generated heads and cups were looked at: the NIOSH
