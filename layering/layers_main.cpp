@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
       .option("-r", "--report", &report_path, "optional JSON report (counts, quality, volumes)");
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Options (run_main has logged them).
+    pipeline::require_extension("--out", out, {".msh"});
     opt.kind = kind;
     std::stringstream ss(per_tissue);
     for (std::string item; std::getline(ss, item, ',');) {

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     if (kind == "head" && landmarks.empty())
       throw pipeline::Error(pipeline::ErrorKind::usage, "--landmarks is required for --kind head");
+    pipeline::require_extension("--out", out, {".ply"});  // only PLY keeps the face property 'part'
     pipeline::Progress progress("segment", 0);
     // 2. Load
     layering::HeadLandmarks lm;

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
       .option("-t", "--strap-thickness-mm", &strap_t, "strap shell thickness [mm]", 0.1, 5);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Load.
+    pipeline::require_extension("--out", out, {".msh"});
     const auto h = layering::read_fe_model(head);
     pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");
     const auto r = layering::read_fe_model(resp);

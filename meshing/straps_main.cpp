@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
       .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Load.
+    pipeline::require_extension("--out", out, {".msh"});
     const auto h = layering::read_fe_model(head);
     pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");
     const auto lm = meshing::read_landmarks(landmarks);

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
+    pipeline::require_extension("--out", out, {".msh"});
     pipeline::Progress progress("surface_mesh", 0);
     const pipeline::SurfaceMesh fitted = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(fitted.points()), kind);

@@ -1,7 +1,10 @@
 #include "pipeline/cli.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "pipeline/error.h"
@@ -134,6 +137,16 @@ std::string Cli::resolved() const {
   std::string s;
   for (const auto& o : opts_) s += (s.empty() ? "" : " ") + o.long_flag.substr(2) + "=" + o.get();
   return s;
+}
+
+void require_extension(const std::string& option, const std::string& path, const std::vector<std::string>& extensions) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) return;
+  std::string list;
+  for (std::size_t i = 0; i < extensions.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == extensions.size() ? " or " : ", ") + extensions[i];
+  throw Error(ErrorKind::usage, option + ": '" + path + "' must end in " + list);
 }
 
 int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) {

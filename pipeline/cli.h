@@ -58,6 +58,14 @@ class Cli {
   std::vector<Opt> opts_;
 };
 
+/// Checks, before any work, that an output path names a format the stage writes: a wrong
+/// extension otherwise failed only after the work (exit 4), or inside gmsh ("Unknown output
+/// file format", naming no file).
+/// @param[in] option      the option's long flag, for the message ("--out")
+/// @param[in] extensions  accepted endings, lower case with the dot (".ply")
+/// @throws Error(usage) "--out: 'x.txt' must end in .ply, .off, .obj or .stl" otherwise.
+void require_extension(const std::string& option, const std::string& path, const std::vector<std::string>& extensions);
+
 /// Parses the command line, runs `body` and maps exceptions to exit codes:
 /// usage 1, bad input 2, algorithm 3, I/O 4 (pipeline::Error kinds); other exceptions 3.
 /// Each error is one line on stderr: "program: message".

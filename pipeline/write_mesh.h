@@ -2,10 +2,15 @@
 /// Writing meshes and point clouds, atomically (temporary file + rename). The format follows the
 /// extension: .ply (binary, keeps vertex/face properties), .off, .obj, .stl; points: .ply, .xyz.
 #include <string>
+#include <vector>
 
 #include "pipeline/surface_mesh.h"
 
 namespace pipeline {
+
+/// The endings write_surface_mesh and write_point_cloud write, for require_extension (cli.h).
+inline const std::vector<std::string> surface_mesh_extensions = {".ply", ".off", ".obj", ".stl"};
+inline const std::vector<std::string> point_cloud_extensions = {".ply", ".xyz"};
 
 /// @throws Error(io) when writing fails; `path` is then untouched.
 void write_surface_mesh(const std::string& path, const SurfaceMesh& mesh);

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
     // 1. Options (run_main has logged them)
     const auto kind = scan2cad::parse_align_kind(kind_name);
     const pipeline::Unit unit = pipeline::parse_unit(unit_name);
+    pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
     pipeline::Progress progress("align", 0);
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)
     progress.step("loading " + in);

@@ -35,9 +35,8 @@ int main(int argc, char** argv) {
     // 1. Options and input
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
+    pipeline::require_extension("--out", out, {".ply", ".msh"});
     const std::string ext = std::filesystem::path(out).extension().string();
-    if (ext != ".ply" && ext != ".msh")
-      throw pipeline::Error(pipeline::ErrorKind::usage, "--out: '" + out + "' must end in .ply or .msh");
     pipeline::Progress progress("fit", 0);
     const pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(mesh.points()), kind);

@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
     opt.projection_onto_unsmoothed = !onto_smoothed;
     opt.poisson_keep_thin_parts = !thin_parts_thinned;
     // 1. Options
+    pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
     const auto kind = kind_unit.kind();
     opt.method = scan2cad::parse_reconstruct_method(method_name, kind);
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();

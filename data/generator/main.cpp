@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
       .option("-S", "--seed", &seed, "random seed (same seed, same bytes)", 0, 9007199254740992.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Resolve options.
+    pipeline::require_extension("--out", out, pipeline::point_cloud_extensions);
+    if (!clean_mesh.empty()) pipeline::require_extension("--clean-mesh", clean_mesh, pipeline::surface_mesh_extensions);
     rq.seed = static_cast<std::uint64_t>(seed);
     generator::parse_hole_diameters(holes_diam, &rq.hole_diameter_min_mm, &rq.hole_diameter_max_mm);
     rq.noise_direction = generator::parse_noise_direction(noise_dir);

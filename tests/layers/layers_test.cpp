@@ -210,6 +210,21 @@ TEST(layers_cli, missing_input_exits_2_without_output) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// gmsh picks the format from the ending: `--out x.txt` failed after the layering with "Unknown
+// output file format" (exit 3), naming no file. Now a usage error before the input is read.
+TEST(layers_cli, out_not_ending_in_msh_is_a_usage_error_naming_it) {
+  const std::string out = (scratch_dir() / "layers.txt").string(), log = (scratch_dir() / "ext_log.txt").string();
+  const std::string cmd = std::string(BIN_DIR) + "/layers --in /nonexistent.msh --materials " + kMaterials +
+                          " --out " + out + " 2> " + log;
+  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 1);
+  std::ifstream in(log);
+  std::string first_error;
+  for (std::string line; std::getline(in, line) && first_error.empty();)
+    if (line.find("options:") == std::string::npos) first_error = line;
+  EXPECT_EQ(first_error, "layers: --out: '" + out + "' must end in .msh");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 // gmsh throws its errors as std::string, which the reader once let through as an internal error
 // (exit 3, "Error loading ..."); an empty file read as a mesh without groups. gmsh reads a NaN
 // coordinate without complaint; layers then failed after 60 thinning passes, and straps and

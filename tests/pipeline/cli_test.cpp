@@ -67,3 +67,23 @@ TEST(cli, run_main_maps_error_kinds_to_exit_codes) {
   Args help({"prog", "--help"});
   EXPECT_EQ(pipeline::run_main(cli, help.argc(), help.argv(), [] { return 7; }), 0);
 }
+
+// An output path's ending is checked before any work: the gmsh writers of surface_mesh, layers,
+// straps and assemble failed after it with "Unknown output file format", naming no file.
+TEST(require_extension, accepts_the_listed_endings_in_any_case_and_names_the_rest) {
+  EXPECT_NO_THROW(pipeline::require_extension("--out", "a/b.ply", {".ply", ".msh"}));
+  EXPECT_NO_THROW(pipeline::require_extension("--out", "B.MSH", {".ply", ".msh"}));
+  const auto message = [](const std::string& path, const std::vector<std::string>& exts) {
+    try {
+      pipeline::require_extension("--out", path, exts);
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::usage);
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("x.txt", {".msh"}), "--out: 'x.txt' must end in .msh");
+  EXPECT_EQ(message("dir/", {".ply", ".xyz"}), "--out: 'dir/' must end in .ply or .xyz");
+  EXPECT_EQ(message("x.ply.tmp", {".ply", ".off", ".obj", ".stl"}),
+            "--out: 'x.ply.tmp' must end in .ply, .off, .obj or .stl");
+}
