@@ -295,7 +295,18 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
     ok = true;
   }
-  if (!ok) throw bad_input(path, "unreadable, truncated or non-manifold mesh (run repair first)");
+  if (!ok) {
+    // CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and on a valid one whose
+    // faces do not form a 2-manifold; reading it again as a soup tells the two apart.
+    std::ifstream in(path, std::ios::binary);
+    std::vector<Point> points;
+    std::vector<std::vector<std::size_t>> polygons;
+    if (CGAL::IO::read_PLY(in, points, polygons) && !polygons.empty() &&
+        !PMP::is_polygon_soup_a_polygon_mesh(polygons))
+      throw bad_input(path, "not a 2-manifold polygon mesh (" + std::to_string(polygons.size()) +
+                                " faces read; run repair first)");
+    throw bad_input(path, "unreadable or truncated PLY");
+  }
   if (mesh.number_of_faces() == 0) throw bad_input(path, "mesh has no faces");
   for (auto v : mesh.vertices()) {
     const Point& p = mesh.point(v);

@@ -109,6 +109,31 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
   EXPECT_EQ(message_of(last_word), last_word + ": line 5: a coordinate is NaN or infinite");
 }
 
+// A later stage's input that repair has not made manifold is named as such, apart from a broken
+// file: CGAL's reader fails alike on both, and the message said "unreadable, truncated or
+// non-manifold".
+TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
+  auto message_of = [](const std::string& path) -> std::string {
+    try {
+      pipeline::read_surface_mesh(path);
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 5\nproperty double x\nproperty double y\n"
+                             "property double z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string points = "0 0 0\n100 0 0\n50 80 0\n50 -80 0\n50 0 80\n";
+  // three triangles on the edge 0-1: a fin
+  const std::string fin = tmp_file("fin.ply", header + points + "3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  EXPECT_EQ(message_of(fin), fin + ": not a 2-manifold polygon mesh (3 faces read; run repair first)");
+  const std::string cut = tmp_file("cut_mesh.ply", header + points + "3 0 1 2\n3 1 0");
+  EXPECT_EQ(message_of(cut), cut + ": unreadable or truncated PLY");
+  const std::string two = tmp_file("two.ply", header + points + "3 0 1 2\n3 1 0 3\n3 2 1 4\n");
+  EXPECT_EQ(message_of(two), "no error");
+}
+
 // A NaN normal reached Poisson, which failed as an algorithm error ("normals inconsistent?").
 TEST(read_scan, a_nan_normal_is_bad_input_naming_the_point) {
   pipeline::PointCloud c;
