@@ -11,7 +11,6 @@
 //   layers --in build/cases/medium_onesize/head/surface.msh --materials data/materials.json --out layers.msh
 //   layers --in respirator/surface.msh --materials data/materials.json --kind respirator --out resp.msh
 #include <nlohmann/json.hpp>
-#include <filesystem>
 #include <sstream>
 
 #include "layering/layers.h"
@@ -52,8 +51,7 @@ int main(int argc, char** argv) {
     // 3. Layers.
     layering::LayerReport rep;
     const layering::FeModel model = layering::build_layers(surface, stacks, opt, &rep);
-    // 4. Report text, then the model, then the report: if the report cannot be written the model
-    //    is removed again, so Make never sees one output without the other (both or neither).
+    // 4. Report text, then the model and the report, both or neither.
     nlohmann::json j = {{"wedges", rep.wedges}, {"shell_triangles", rep.shell_triangles}, {"nodes", rep.nodes},
                         {"min_scaled_jacobian", rep.min_scaled_jacobian}, {"min_volume_mm3", rep.min_volume},
                         {"reduced_columns", rep.reduced_columns}, {"min_depth_scale", rep.min_depth_scale},
@@ -73,15 +71,8 @@ int main(int argc, char** argv) {
                   100 * (v.volume / v.skin_area_volume - 1), 100 * v.full_depth_area_fraction,
                   100 * (v.full_depth_volume / std::max(v.full_depth_mid_area_volume, 1e-300) - 1));
     }
-    layering::write_fe_model(model, out);
-    if (!report_path.empty()) {
-      try {
-        pipeline::write_text_atomic(report_path, j.dump(2) + "\n");
-      } catch (...) {
-        std::filesystem::remove(out);
-        throw;
-      }
-    }
+    pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
+                                 {report_path, [&] { pipeline::write_text_atomic(report_path, j.dump(2) + "\n"); }}});
     return 0;
   });
 }

@@ -52,9 +52,9 @@ int main(int argc, char** argv) {
     // 3. Write model and decks.
     const auto d1 = meshing::make_deck(model, mat, 1, strap_t, "");
     const auto d2 = meshing::make_deck(model, mat, 2, strap_t, state1);
-    layering::write_fe_model(model, out);
-    pipeline::write_text_atomic(deck1, d1.dump(2) + "\n");
-    pipeline::write_text_atomic(deck2, d2.dump(2) + "\n");
+    pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
+                                 {deck1, [&] { pipeline::write_text_atomic(deck1, d1.dump(2) + "\n"); }},
+                                 {deck2, [&] { pipeline::write_text_atomic(deck2, d2.dump(2) + "\n"); }}});
     std::printf("assemble: %s: %zu nodes, %zu wedges, %zu strap quads; respirator shifted by (%.1f, %.1f, %.1f) mm; "
                 "gap %.3f mm; straps %.2f mm off the skin; %zu intersecting face pairs\n",
                 out.c_str(), rep.nodes, rep.wedges, rep.quads, rep.shift.x(), rep.shift.y(), rep.shift.z(), rep.gap_mm,

@@ -38,6 +38,20 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
   }
 }
 
+void write_all_or_none(const std::vector<Output>& outputs) {
+  std::vector<std::string> written;
+  try {
+    for (const Output& o : outputs) {
+      if (o.path.empty()) continue;
+      o.write();
+      written.push_back(o.path);
+    }
+  } catch (...) {
+    for (const std::string& p : written) std::remove(p.c_str());
+    throw;
+  }
+}
+
 void write_text_atomic(const std::string& path, const std::string& text) {
   write_atomic(path, [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);

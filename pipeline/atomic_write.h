@@ -3,6 +3,7 @@
 /// interrupted stage never leaves a file that Make could mistake for a finished one.
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace pipeline {
 
@@ -14,6 +15,18 @@ namespace pipeline {
 /// @throws Error(io) if the writer left no file or the rename failed; any exception of the
 ///         writer is re-thrown after the temporary file is removed. `path` is untouched on failure.
 void write_atomic(const std::string& path, const std::function<void(const std::string& tmp_path)>& writer);
+
+/// One output of a stage for write_all_or_none: its path ("" = not requested, skipped) and the
+/// call that writes it (atomically, e.g. write_surface_mesh).
+struct Output {
+  std::string path;
+  std::function<void()> write;
+};
+
+/// Writes a stage's outputs all or none: runs the writes in order and, if one throws, removes
+/// the files the earlier ones wrote before re-throwing, so Make never sees part of a failed
+/// stage's outputs as new. (Each write is atomic on its own; this makes the set so.)
+void write_all_or_none(const std::vector<Output>& outputs);
 
 /// Writes `text` to `path` atomically.
 void write_text_atomic(const std::string& path, const std::string& text);

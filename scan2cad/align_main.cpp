@@ -53,9 +53,10 @@ int main(int argc, char** argv) {
     opt.samples = samples;
     const auto res = scan2cad::align(mesh, opt);
     scan2cad::apply_transform(mesh, res.transform);
-    // 4. Write atomically
-    pipeline::write_surface_mesh(out, mesh);
-    pipeline::write_text_atomic(transform_path, scan2cad::align_json(res, kind, scale));
+    // 4. Write atomically, both or neither
+    pipeline::write_all_or_none(
+        {{out, [&] { pipeline::write_surface_mesh(out, mesh); }},
+         {transform_path, [&] { pipeline::write_text_atomic(transform_path, scan2cad::align_json(res, kind, scale)); }}});
     std::ostringstream summary;
     summary << "unit scale " << scale << ", symmetry RMS " << res.symmetry_rms_mm << " mm over "
             << std::lround(100 * res.symmetry_inliers) << "% of the surface";

@@ -49,9 +49,9 @@ int main(int argc, char** argv) {
     scan2cad::RepairReport report;
     const pipeline::SurfaceMesh mesh =
         pipeline::naming_file(in, [&] { return scan2cad::repair(scan.soup, kind, opt, &report); });
-    // 4. Write
-    pipeline::write_surface_mesh(out, mesh);
-    if (!report_path.empty()) pipeline::write_text_atomic(report_path, report.to_json().dump(2) + "\n");
+    // 4. Write (both or neither)
+    pipeline::write_all_or_none({{out, [&] { pipeline::write_surface_mesh(out, mesh); }},
+                                 {report_path, [&] { pipeline::write_text_atomic(report_path, report.to_json().dump(2) + "\n"); }}});
     std::fprintf(stderr, "repair: %s\n", report.summary().c_str());
     return 0;
   });

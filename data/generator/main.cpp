@@ -12,6 +12,7 @@
 #include <string>
 
 #include "data/generator/generate_scan.h"
+#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
 #include "pipeline/write_mesh.h"
@@ -48,10 +49,10 @@ int main(int argc, char** argv) {
     rq.noise_direction = generator::parse_noise_direction(noise_dir);
     // 2. Build the surface and scan it.
     const generator::GeneratedScan scan = generator::generate_scan(rq);
-    // 3. Write outputs atomically.
-    pipeline::write_point_cloud(out, scan.cloud);
-    if (!clean_mesh.empty()) pipeline::write_surface_mesh(clean_mesh, scan.clean_mesh);
-    if (!holes_out.empty()) generator::write_holes_json(holes_out, scan.holes);
+    // 3. Write outputs atomically, all or none.
+    pipeline::write_all_or_none({{out, [&] { pipeline::write_point_cloud(out, scan.cloud); }},
+                                 {clean_mesh, [&] { pipeline::write_surface_mesh(clean_mesh, scan.clean_mesh); }},
+                                 {holes_out, [&] { generator::write_holes_json(holes_out, scan.holes); }}});
     pipeline::log("generate_scan", std::to_string(scan.cloud.points.size()) + " points, " +
                                        std::to_string(scan.holes.size()) + " holes -> " + out);
     return 0;

@@ -188,6 +188,17 @@ TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   EXPECT_NE(forced.err.find(in + ": unit in (forced): largest extent 285.7 mm"), std::string::npos) << forced.err;
 }
 
+// A report that cannot be written (its path is a folder) fails the stage with exit 4 and takes
+// the repaired mesh with it, so Make does not see a new mesh from a failed run.
+TEST(repair_cli, an_unwritable_report_leaves_no_mesh) {
+  const std::string out = (dir / "no_report.ply").string(), report = (dir / "report_is_a_folder").string();
+  std::filesystem::create_directories(report);
+  const CliRun r = run("repair --in " + niosh_medium + " --kind head --edge 4 --out " + out + " --report " + report);
+  EXPECT_EQ(r.code, 4) << r.err;
+  EXPECT_NE(r.err.find(report + ": cannot rename temporary file"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(reconstruct_cli, a_mesh_passes_through_unchanged) {
   const std::string out = (dir / "pass.ply").string();
   const CliRun r = run("reconstruct --in " + niosh_medium + " --kind head --out " + out);
