@@ -54,7 +54,7 @@ bool plausible_size(double size_mm, double expected_mm) {
 
 Unit detect_unit(double extent, double expected_mm, const std::string& what) {
   if (!(extent > 0) || !std::isfinite(extent))
-    throw bad_input(what, "bounding box has no extent (" + pipeline::format_number(extent) + ")");
+    throw bad_input(what, "bounding box has no extent (" + format_number(extent) + ")");
   for (Unit u : {Unit::mm, Unit::cm, Unit::m})
     if (plausible_size(extent * mm_per_unit(u), expected_mm)) return u;
   std::ostringstream ss;
