@@ -474,7 +474,9 @@ ScanKind parse_scan_kind(const std::string& name) {
   throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: '" + name + "', expected head or respirator");
 }
 std::string scan_kind_name(ScanKind k) { return k == ScanKind::head ? "head" : "respirator"; }
-double expected_size_mm(ScanKind k) { return pipeline::expected_extent_mm(scan_kind_name(k)); }
+double expected_size_mm(ScanKind k) {
+  return k == ScanKind::head ? pipeline::head_extent_mm : pipeline::respirator_extent_mm;
+}
 
 void KindAndUnitOptions::add_to(pipeline::Cli& cli, const std::string& kind_help) {
   cli.option("-k", "--kind", &kind_name, kind_help);

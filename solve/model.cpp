@@ -67,10 +67,7 @@ void check_model(const Model& m) {
   const std::size_t n = m.n_nodes();
   if (n == 0) throw bad("no nodes");
   for (std::size_t i = 0; i < m.X.size(); ++i)
-    if (!std::isfinite(m.X[i])) {
-      const long tag = m.node_tags.size() == n ? m.node_tags[i / 3] : long(i / 3) + 1;
-      throw bad("node " + std::to_string(tag) + " has a non-finite coordinate");
-    }
+    if (!std::isfinite(m.X[i])) throw bad("node " + std::to_string(m.node_tag(i / 3)) + " has a non-finite coordinate");
   if (m.parts.empty()) throw bad("no parts: the deck assigns no material to any element group");
   for (const auto& mat : m.materials) {
     if (!(mat.density > 0)) throw bad("material '" + mat.name + "': density must be > 0");

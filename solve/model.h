@@ -108,6 +108,8 @@ struct Model {
   OutputSpec output;
 
   std::size_t n_nodes() const { return X.size() / 3; }
+  /// The gmsh tag of node `i` (i + 1 for a model built without tags), as outputs and messages name it.
+  long node_tag(std::size_t i) const { return node_tags.empty() ? long(i) + 1 : node_tags[i]; }
   /// Node ids of a group; throws pipeline::Error(bad_input) naming the model if absent.
   const std::vector<int>& group(const std::string& name) const;
   /// Triangles of a surface group; throws bad_input if absent or empty.

@@ -29,7 +29,7 @@ void write_mesh_msh(const Model& m, const std::string& path) {
     gmsh::clear();
     gmsh::model::add("results");
     std::vector<std::size_t> ntags(m.n_nodes());
-    for (std::size_t i = 0; i < ntags.size(); ++i) ntags[i] = m.node_tags.empty() ? i + 1 : std::size_t(m.node_tags[i]);
+    for (std::size_t i = 0; i < ntags.size(); ++i) ntags[i] = std::size_t(m.node_tag(i));
     std::size_t next_elem = 1;
     bool nodes_added = false;
     for (const auto& p : m.parts) {
@@ -76,7 +76,7 @@ void append_node_data(std::ostream& out, const Model& m, const std::string& name
   out << "$NodeData\n1\n\"" << name << "\"\n1\n" << time << "\n3\n" << step << "\n" << ncomp << "\n" << n << "\n";
   char buf[64];
   for (std::size_t i = 0; i < n; ++i) {
-    out << (m.node_tags.empty() ? long(i + 1) : m.node_tags[i]);
+    out << m.node_tag(i);
     for (int c = 0; c < ncomp; ++c) {
       std::snprintf(buf, sizeof buf, " %.9g", values[ncomp * i + c]);
       out << buf;

@@ -13,22 +13,15 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
+#include "pipeline/atomic_write.h"
 #include "../last_line.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 int shell(const std::string& cmd) {
   const int rc = std::system(cmd.c_str());
@@ -61,7 +54,7 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
   const fs::path log = scratch_dir() / "make.log";
   const int rc = shell("make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases case=large_onesize HEADFORM_SCAN=" +
                        metres.string() + " BUILD=" + build.string() + " > " + log.string() + " 2>&1");
-  const std::string text = slurp(log);
+  const std::string text = pipeline::read_text(log.string());
   ASSERT_EQ(rc, 0) << text.substr(text.size() > 4000 ? text.size() - 4000 : 0);
 
   // Read as metres, processed in the case's own folder.
@@ -77,11 +70,11 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
   // The repaired head is closed, manifold and free of self-intersections; the layered head has the paper's size of model (13,570 wedges for
   // its medium head; a large head at the same edge length has a few per cent more or less) and
   // all 13 layer volumes.
-  const auto repair = nlohmann::json::parse(slurp(head / "repair_report.json"));
+  const auto repair = nlohmann::json::parse(pipeline::read_text((head / "repair_report.json").string()));
   EXPECT_TRUE(repair.at("closed").get<bool>()) << repair.dump();
   EXPECT_TRUE(repair.at("manifold").get<bool>());
   EXPECT_FALSE(repair.at("self_intersecting_after").get<bool>());
-  const auto layers = nlohmann::json::parse(slurp(head / "layers_report.json"));
+  const auto layers = nlohmann::json::parse(pipeline::read_text((head / "layers_report.json").string()));
   EXPECT_GT(layers.at("wedges").get<int>(), 11000);
   EXPECT_LT(layers.at("wedges").get<int>(), 16500);
   EXPECT_EQ(layers.at("volumes").size(), 13u);
