@@ -2,17 +2,15 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 
-#include <gmsh.h>
 #include <nlohmann/json.hpp>
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/read_json.h"
-#include "solve/internal/gmsh_init.h"
+#include "pipeline/read_msh.h"
 
 namespace solve {
 namespace {
@@ -120,70 +118,30 @@ const json& array_of(const Deck& d, const std::string& key) {
 }  // namespace
 
 Model read_msh(const std::string& path) {
-  {
-    std::ifstream probe(path);
-    if (!probe) throw pipeline::bad_input(path, "cannot open the mesh file");
-  }
+  const pipeline::MshFile file = pipeline::read_msh(path);
+  if (file.groups.empty())
+    throw pipeline::bad_input(path, "no physical groups: the solver addresses the mesh by named groups");
   Model m;
   m.name = path;
-  const internal::KeepOmpThreads keep_threads;
-  internal::ensure_gmsh();
-  gmsh::option::setNumber("General.Terminal", 0);
-  gmsh::logger::start();
-  try {
-    gmsh::clear();
-    gmsh::open(path);
-    std::vector<std::size_t> tags;
-    std::vector<double> coord, param;
-    gmsh::model::mesh::getNodes(tags, coord, param, -1, -1, false, false);
-    if (tags.empty()) throw pipeline::bad_input(path, "no nodes (not a gmsh mesh?)");
-    std::map<std::size_t, int> index;
-    for (std::size_t i = 0; i < tags.size(); ++i) {
-      if (index.count(tags[i])) continue;  // nodes on shared entities may be listed once per entity
-      index[tags[i]] = int(m.node_tags.size());
-      m.node_tags.push_back(long(tags[i]));
-      m.X.insert(m.X.end(), coord.begin() + 3 * i, coord.begin() + 3 * i + 3);
-    }
-    gmsh::vectorpair groups;
-    gmsh::model::getPhysicalGroups(groups);
-    if (groups.empty()) throw pipeline::bad_input(path, "no physical groups: the solver addresses the mesh by named groups");
-    for (const auto& [dim, tag] : groups) {
-      std::string name;
-      gmsh::model::getPhysicalName(dim, tag, name);
-      if (name.empty()) name = std::to_string(dim) + ":" + std::to_string(tag);  // unnamed: "dim:tag"
-      std::vector<int> ents;
-      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, ents);
-      auto& nodes = m.node_groups[name];
-      for (int ent : ents) {
-        std::vector<int> types;
-        std::vector<std::vector<std::size_t>> etags, enodes;
-        gmsh::model::mesh::getElements(types, etags, enodes, dim, ent);
-        for (std::size_t k = 0; k < types.size(); ++k) {
-          std::vector<int> conn;
-          for (std::size_t t : enodes[k]) {
-            auto it = index.find(t);
-            if (it == index.end()) throw pipeline::bad_input(path, "element refers to unknown node " + std::to_string(t));
-            conn.push_back(it->second);
-          }
-          nodes.insert(nodes.end(), conn.begin(), conn.end());
-          ElementType et;
-          if ((dim == 2 || dim == 3) && gmsh_type(types[k], &et)) {
-            Part p;
-            p.name = name;
-            p.type = et;
-            p.conn = std::move(conn);
-            m.parts.push_back(std::move(p));
-          }
-        }
+  m.node_tags.assign(file.node_tags.begin(), file.node_tags.end());
+  m.X = file.xyz;
+  for (const pipeline::MshGroup& g : file.groups) {
+    const std::string name = g.name.empty() ? std::to_string(g.dim) + ":" + std::to_string(g.tag) : g.name;  // unnamed: "dim:tag"
+    auto& nodes = m.node_groups[name];
+    for (const pipeline::MshElements& e : g.elements) {
+      nodes.insert(nodes.end(), e.conn.begin(), e.conn.end());
+      ElementType et;
+      if ((g.dim == 2 || g.dim == 3) && gmsh_type(e.gmsh_type, &et)) {
+        Part p;
+        p.name = name;
+        p.type = et;
+        p.conn = e.conn;
+        m.parts.push_back(std::move(p));
       }
-      std::sort(nodes.begin(), nodes.end());
-      nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     }
-  } catch (const std::string& e) {
-    gmsh::logger::stop();
-    throw pipeline::bad_input(path, "gmsh cannot read it: " + e);
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   }
-  gmsh::logger::stop();
   // Surfaces: 2D elements of a group; else the boundary of its 3D elements.
   std::map<std::string, std::vector<const Part*>> solids;
   for (const auto& p : m.parts) {

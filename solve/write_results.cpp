@@ -5,7 +5,7 @@
 #include <gmsh.h>
 
 #include "pipeline/error.h"
-#include "solve/internal/gmsh_init.h"
+#include "pipeline/gmsh_session.h"
 
 namespace solve {
 namespace {
@@ -22,11 +22,8 @@ int gmsh_type(ElementType t) {
 }  // namespace
 
 void write_mesh_msh(const Model& m, const std::string& path) {
-  const internal::KeepOmpThreads keep_threads;
-  internal::ensure_gmsh();
-  gmsh::option::setNumber("General.Terminal", 0);
   try {
-    gmsh::clear();
+    pipeline::GmshSession session;
     gmsh::model::add("results");
     std::vector<std::size_t> ntags(m.n_nodes());
     for (std::size_t i = 0; i < ntags.size(); ++i) ntags[i] = std::size_t(m.node_tag(i));
@@ -64,7 +61,6 @@ void write_mesh_msh(const Model& m, const std::string& path) {
     gmsh::option::setNumber("Mesh.Binary", 0);
     gmsh::option::setNumber("Mesh.SaveAll", 0);
     gmsh::write(path);
-    gmsh::clear();
   } catch (const std::string& e) {
     throw pipeline::io_failed(path, "gmsh cannot write the mesh: " + e);
   }

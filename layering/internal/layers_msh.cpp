@@ -1,16 +1,16 @@
 // Reading and writing FeModel as gmsh .msh through the gmsh API (gmsh knows its own format best;
-// one discrete entity + one named physical group per block).
+// one discrete entity + one named physical group per block); the reading is pipeline::read_msh's.
 #include <gmsh.h>
 
-#include <cmath>
-#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 
 #include "layering/layers.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/gmsh_session.h"
 #include "pipeline/read_json.h"
+#include "pipeline/read_msh.h"
 
 namespace layering {
 namespace {
@@ -26,16 +26,6 @@ int gmsh_type(int dim, int npe) {
   return -1;
 }
 
-// gmsh keeps global state: initialise once per call and always finalise.
-struct GmshSession {
-  GmshSession() {
-    gmsh::initialize();
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.Verbosity", 1);
-  }
-  ~GmshSession() { gmsh::finalize(); }
-};
-
 }  // namespace
 
 const Block* FeModel::find(const std::string& name) const {
@@ -45,62 +35,23 @@ const Block* FeModel::find(const std::string& name) const {
 }
 
 FeModel read_fe_model(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw pipeline::bad_input(path, "no such file");
-  GmshSession session;
-  try {
-    gmsh::open(path);
-  } catch (const std::exception& e) {
-    throw pipeline::bad_input(path, std::string("gmsh cannot read it: ") + e.what());
-  } catch (const std::string& e) {  // the gmsh API throws its last error message as a string
-    throw pipeline::bad_input(path, "gmsh cannot read it: " + e);
-  }
+  const pipeline::MshFile file = pipeline::read_msh(path);
   FeModel m;
-  std::vector<std::size_t> tags;
-  std::vector<double> xyz, param;
-  gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, true, false);
-  if (tags.empty()) throw pipeline::bad_input(path, "no nodes (empty, or not a gmsh mesh)");
-  std::map<std::size_t, int> index;
-  for (std::size_t i = 0; i < tags.size(); ++i) {
-    if (index.count(tags[i])) continue;
-    // Checked here because a NaN node slips through every later geometric test (comparisons
-    // with NaN are false) and surfaces as thinning failures or a floating-point trap.
-    for (int k = 0; k < 3; ++k)
-      if (!std::isfinite(xyz[3 * i + k]))
-        throw pipeline::bad_input(path, "node " + std::to_string(tags[i]) + " has a non-finite coordinate");
-    index[tags[i]] = int(m.nodes.size());
-    m.nodes.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-  }
-  gmsh::vectorpair groups;
-  gmsh::model::getPhysicalGroups(groups);
-  for (auto [dim, ptag] : groups) {
+  m.nodes.reserve(file.n_nodes());
+  for (std::size_t i = 0; i < file.n_nodes(); ++i)
+    m.nodes.emplace_back(file.xyz[3 * i], file.xyz[3 * i + 1], file.xyz[3 * i + 2]);
+  for (const pipeline::MshGroup& g : file.groups) {
     Block b;
-    b.dim = dim;
-    gmsh::model::getPhysicalName(dim, ptag, b.name);
-    if (b.name.empty()) b.name = "group_" + std::to_string(dim) + "_" + std::to_string(ptag);
-    std::vector<int> ents;
-    gmsh::model::getEntitiesForPhysicalGroup(dim, ptag, ents);
+    b.dim = g.dim;
+    b.name = g.name.empty() ? "group_" + std::to_string(g.dim) + "_" + std::to_string(g.tag) : g.name;
     b.nodes_per_elem = 0;
-    for (int e : ents) {
-      std::vector<int> types;
-      std::vector<std::vector<std::size_t>> etags, ntags;
-      gmsh::model::mesh::getElements(types, etags, ntags, dim, e);
-      for (std::size_t t = 0; t < types.size(); ++t) {
-        std::string name;
-        int edim, order, npe, nprim;
-        std::vector<double> loc;
-        gmsh::model::mesh::getElementProperties(types[t], name, edim, order, npe, loc, nprim);
-        if (b.nodes_per_elem && b.nodes_per_elem != npe)
-          throw pipeline::bad_input(path, "group " + b.name + " mixes element types");
-        b.nodes_per_elem = npe;
-        for (std::size_t n : ntags[t]) {
-          auto it = index.find(n);
-          if (it == index.end())
-            throw pipeline::bad_input(path, "element of group " + b.name + " uses missing node " + std::to_string(n));
-          b.conn.push_back(it->second);
-        }
-      }
+    for (const pipeline::MshElements& e : g.elements) {
+      if (b.nodes_per_elem && b.nodes_per_elem != e.nodes_per_element)
+        throw pipeline::bad_input(path, "group " + b.name + " mixes element types");
+      b.nodes_per_elem = e.nodes_per_element;
+      b.conn.insert(b.conn.end(), e.conn.begin(), e.conn.end());
     }
-    if (b.nodes_per_elem == 0) b.nodes_per_elem = dim == 0 ? 1 : dim == 1 ? 2 : dim == 2 ? 3 : 6;
+    if (b.nodes_per_elem == 0) b.nodes_per_elem = g.dim == 0 ? 1 : g.dim == 1 ? 2 : g.dim == 2 ? 3 : 6;
     m.blocks.push_back(std::move(b));
   }
   if (m.blocks.empty()) throw pipeline::bad_input(path, "no physical group: expected named parts");
@@ -109,7 +60,7 @@ FeModel read_fe_model(const std::string& path) {
 
 void write_fe_model(const FeModel& m, const std::string& path) {
   pipeline::write_atomic(path, [&](const std::string& tmp) {
-    GmshSession session;
+    pipeline::GmshSession session;
     gmsh::model::add("model");
     // Nodes live on the first block of the highest dimension; elements of any block refer to them.
     int host = 0;

@@ -1,0 +1,87 @@
+// read_msh: see read_msh.h.
+#include "pipeline/read_msh.h"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "pipeline/error.h"
+#include "pipeline/gmsh_session.h"
+
+namespace pipeline {
+namespace {
+
+MshFile read_open_model(const std::string& path) {
+  MshFile f;
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz, param;
+  gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, false, false);
+  if (tags.empty()) throw bad_input(path, "no nodes (empty, or not a gmsh mesh)");
+  std::map<std::size_t, int> index;
+  for (std::size_t i = 0; i < tags.size(); ++i) {
+    if (index.count(tags[i])) continue;  // a node on an entity's boundary may be listed once per entity
+    // Checked here because a NaN node slips through every later geometric test (comparisons
+    // with NaN are false) and surfaces as thinning failures or a floating-point trap.
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(xyz[3 * i + k]))
+        throw bad_input(path, "node " + std::to_string(tags[i]) + " has a non-finite coordinate");
+    index[tags[i]] = int(f.node_tags.size());
+    f.node_tags.push_back(tags[i]);
+    f.xyz.insert(f.xyz.end(), xyz.begin() + 3 * long(i), xyz.begin() + 3 * long(i) + 3);
+  }
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups);
+  for (const auto& [dim, tag] : groups) {
+    MshGroup g;
+    g.dim = dim;
+    g.tag = tag;
+    gmsh::model::getPhysicalName(dim, tag, g.name);
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+    for (int entity : entities) {
+      std::vector<int> types;
+      std::vector<std::vector<std::size_t>> element_tags, element_nodes;
+      gmsh::model::mesh::getElements(types, element_tags, element_nodes, dim, entity);
+      for (std::size_t t = 0; t < types.size(); ++t) {
+        MshElements block;
+        block.gmsh_type = types[t];
+        std::string type_name;
+        int type_dim, order, primary_nodes;
+        std::vector<double> local_coords;
+        gmsh::model::mesh::getElementProperties(types[t], type_name, type_dim, order, block.nodes_per_element,
+                                                local_coords, primary_nodes);
+        block.conn.reserve(element_nodes[t].size());
+        for (std::size_t n : element_nodes[t]) {
+          const auto it = index.find(n);
+          if (it == index.end())
+            throw bad_input(path, "an element of group " + (g.name.empty() ? std::to_string(tag) : g.name) +
+                                      " uses missing node " + std::to_string(n));
+          block.conn.push_back(it->second);
+        }
+        g.elements.push_back(std::move(block));
+      }
+    }
+    f.groups.push_back(std::move(g));
+  }
+  return f;
+}
+
+}  // namespace
+
+MshFile read_msh(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw bad_input(path, "no such file");
+  GmshSession session;
+  try {
+    gmsh::open(path);
+    return read_open_model(path);
+  } catch (const std::string& e) {  // the gmsh API throws its last error message as a string
+    throw bad_input(path, "gmsh cannot read it: " + e);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw bad_input(path, std::string("gmsh cannot read it: ") + e.what());
+  }
+}
+
+}  // namespace pipeline

@@ -1,0 +1,103 @@
+// pipeline::read_msh: nodes once each, groups with 0-based connectivity, and one bad-input line
+// naming the file for what gmsh accepts but the stages cannot use.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "../scratch_dir.h"
+#include "pipeline/error.h"
+#include "pipeline/read_msh.h"
+
+namespace {
+
+// Two triangles on four nodes (tags 10..13) in a group named "skin", their shared edge in an
+// unnamed line group; `x_of_node_11` and `shared_edge_end` let a test break it.
+std::string square_msh(const std::string& x_of_node_11 = "1", int shared_edge_end = 13) {
+  return "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+         "$PhysicalNames\n1\n2 1 \"skin\"\n$EndPhysicalNames\n"
+         "$Entities\n0 1 1 0\n1 0 0 0 1 1 0 1 2 0\n1 0 0 0 1 1 0 1 1 0\n$EndEntities\n"
+         "$Nodes\n1 4 10 13\n2 1 0 4\n10\n11\n12\n13\n0 0 0\n" + x_of_node_11 + " 0 0\n1 1 0\n0 1 0\n$EndNodes\n"
+         "$Elements\n2 3 1 3\n2 1 2 2\n1 10 11 12\n2 10 12 13\n1 1 1 1\n3 10 " + std::to_string(shared_edge_end) +
+         "\n$EndElements\n";
+}
+
+std::string write_msh(const std::string& name, const std::string& text) {
+  const auto path = scratch_dir() / name;
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+// The message of the bad-input error read_msh throws, or "" when it throws none.
+std::string msh_error_of(const std::string& path) {
+  try {
+    pipeline::read_msh(path);
+  } catch (const pipeline::Error& e) {
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input) << e.what();
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(read_msh, nodes_once_and_groups_with_zero_based_connectivity) {
+  const pipeline::MshFile f = pipeline::read_msh(write_msh("square.msh", square_msh()));
+  ASSERT_EQ(f.n_nodes(), 4u);
+  EXPECT_EQ(f.node_tags, (std::vector<std::size_t>{10, 11, 12, 13}));
+  ASSERT_EQ(f.xyz.size(), 12u);
+  EXPECT_EQ(f.xyz[3], 1.0);  // node 11 at (1, 0, 0)
+  EXPECT_EQ(f.xyz[7], 1.0);  // node 12 at (1, 1, 0)
+  ASSERT_EQ(f.groups.size(), 2u);
+  const pipeline::MshGroup* skin = nullptr;
+  const pipeline::MshGroup* line = nullptr;
+  for (const auto& g : f.groups) (g.dim == 2 ? skin : line) = &g;
+  ASSERT_TRUE(skin && line);
+  EXPECT_EQ(skin->name, "skin");
+  EXPECT_EQ(line->name, "");  // unnamed: the caller names it
+  EXPECT_EQ(line->tag, 2);
+  ASSERT_EQ(skin->elements.size(), 1u);
+  EXPECT_EQ(skin->elements[0].gmsh_type, 2);
+  EXPECT_EQ(skin->elements[0].nodes_per_element, 3);
+  EXPECT_EQ(skin->elements[0].conn, (std::vector<int>{0, 1, 2, 0, 2, 3}));
+  ASSERT_EQ(line->elements.size(), 1u);
+  EXPECT_EQ(line->elements[0].nodes_per_element, 2);
+  EXPECT_EQ(line->elements[0].conn, (std::vector<int>{0, 3}));
+}
+
+TEST(read_msh, bad_files_give_one_line_naming_the_file) {
+  const std::string missing = (scratch_dir() / "missing.msh").string();
+  EXPECT_EQ(msh_error_of(missing), missing + ": no such file");
+  const std::string empty = write_msh("empty.msh", "");
+  EXPECT_EQ(msh_error_of(empty), empty + ": no nodes (empty, or not a gmsh mesh)");
+  const std::string cut = square_msh().substr(0, 200);
+  const std::string truncated = write_msh("truncated.msh", cut);
+  EXPECT_EQ(msh_error_of(truncated).rfind(truncated + ": gmsh cannot read it", 0), 0u) << msh_error_of(truncated);
+  // gmsh reads "nan" as a number: the reader has to name the node
+  const std::string nan = write_msh("nan.msh", square_msh("nan"));
+  EXPECT_EQ(msh_error_of(nan), nan + ": node 11 has a non-finite coordinate");
+  const std::string inf = write_msh("inf.msh", square_msh("inf"));
+  EXPECT_EQ(msh_error_of(inf), inf + ": node 11 has a non-finite coordinate");
+  const std::string dangling = write_msh("dangling.msh", square_msh("1", 99));
+  const std::string dangling_error = msh_error_of(dangling);
+  EXPECT_NE(dangling_error.find(dangling + ": "), std::string::npos) << dangling_error;
+  EXPECT_NE(dangling_error.find("99"), std::string::npos) << dangling_error;
+  for (const std::string& path : {empty, truncated, nan, inf, dangling}) {
+    const std::string e = msh_error_of(path);
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+// gmsh sets the OpenMP thread count when it initialises and reads; the caller's count comes back.
+TEST(read_msh, leaves_the_openmp_thread_count_as_it_found_it) {
+  const std::string path = write_msh("square_threads.msh", square_msh());
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(3);
+  pipeline::read_msh(path);
+  EXPECT_EQ(omp_get_max_threads(), 3);
+  omp_set_num_threads(before);
+}
