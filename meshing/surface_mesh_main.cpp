@@ -15,6 +15,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
+#include "pipeline/gmsh_session.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/units.h"
@@ -36,12 +37,7 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("surface_mesh", 0);
     const pipeline::SurfaceMesh fitted = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(fitted.points()), kind);
-    struct Session {
-      Session() { gmsh::initialize(); gmsh::option::setNumber("General.Terminal", 0); }
-      ~Session() {
-        try { gmsh::finalize(); } catch (...) {}  // an error already being reported
-      }
-    } session;
+    pipeline::GmshSession session;
     progress.step("meshing");
     std::size_t total = 0;
     const auto parts =

@@ -18,7 +18,10 @@ struct GmshSession {
     gmsh::option::setNumber("General.Verbosity", 1);
   }
   ~GmshSession() {
-    gmsh::finalize();
+    try {
+      gmsh::finalize();
+    } catch (...) {  // closing while an error is being reported: that error is the one to show
+    }
     omp_set_num_threads(omp_threads);
   }
   GmshSession(const GmshSession&) = delete;

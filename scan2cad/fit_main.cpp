@@ -15,6 +15,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
+#include "pipeline/gmsh_session.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/units.h"
@@ -62,12 +63,7 @@ int main(int argc, char** argv) {
     if (ext == ".ply") {
       pipeline::write_surface_mesh(out, fitted);
     } else {
-      struct Session {
-        Session() { gmsh::initialize(); gmsh::option::setNumber("General.Terminal", 0); }
-        ~Session() {
-          try { gmsh::finalize(); } catch (...) {}  // an error already being reported
-        }
-      } session;
+      pipeline::GmshSession session;
       scan2cad::build_part_model(fitted, kind, false);
       pipeline::write_atomic(out, [](const std::string& tmp) {
         gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
