@@ -106,7 +106,7 @@ void check_model(const Model& m) {
   for (const auto& g : m.output.history_groups) check_group(g);
   for (const auto& c : m.contacts)
     for (int id : m.group(c.slave))
-      if (!has_mass[id]) throw bad("contact '" + c.name + "': slave node " + std::to_string(m.node_tags.empty() ? id : m.node_tags[id]) + " belongs to no part (no mass)");
+      if (!has_mass[id]) throw bad("contact '" + c.name + "': slave node " + std::to_string(m.node_tag(std::size_t(id))) + " belongs to no part (no mass)");
   const Control& c = m.control;
   if (!(c.end_time > 0)) throw bad("control.end_time must be > 0");
   if (!(c.damping_alpha >= 0)) throw bad("control.damping_alpha must be >= 0");

@@ -77,3 +77,28 @@ TEST(apply_deck, errors_name_the_key) {
             std::string::npos);
   EXPECT_EQ(message("{" + mat + R"(, "control": {"end_time": 1}})"), "no error");
 }
+
+// A contact's slave node without mass is named as outputs name it: by its tag, or by its 1-based
+// number in a model built without tags (it was the 0-based index there).
+TEST(check_model, massless_slave_node_named_by_tag_or_number) {
+  solve::Model m = solve::make_block({}, {"m", 1e-3, 1, 0.3, false});
+  const std::size_t loose = m.n_nodes();
+  m.X.insert(m.X.end(), {50, 50, 50});  // a node of no element
+  m.node_tags.push_back(1000);
+  m.node_groups["loose"] = {int(loose)};
+  m.contacts.push_back({"touch", "loose", "zmax"});
+  m.control.end_time = 1;
+  auto message = [](const solve::Model& model) {
+    try {
+      solve::check_model(model);
+    } catch (const pipeline::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(m).find("contact 'touch': slave node 1000 belongs to no part"), std::string::npos) << message(m);
+  m.node_tags.clear();
+  EXPECT_NE(message(m).find("contact 'touch': slave node " + std::to_string(loose + 1) + " belongs to no part"),
+            std::string::npos)
+      << message(m);
+}
