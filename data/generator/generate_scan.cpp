@@ -80,6 +80,12 @@ void parse_hole_diameters(const std::string& text, double* min_mm, double* max_m
   *max_mm = num(b);
   if (*min_mm > *max_mm)
     throw usage("--hole-diameter-mm: MIN > MAX in '" + text + "'");
+  // A scanner leaves holes of a few mm to a few cm (under the chin, in the ears); one wider than
+  // a face (~140 mm) is a slip of unit or of a digit, and failed only after the sampling.
+  constexpr double max_hole_mm = 100;
+  if (*max_mm > max_hole_mm)
+    throw usage("--hole-diameter-mm: MAX " + pipeline::format_number(*max_mm) + " mm in '" + text + "' is wider than " +
+                pipeline::format_number(max_hole_mm) + " mm");
 }
 
 NoiseDirection parse_noise_direction(const std::string& text) {

@@ -40,7 +40,7 @@ struct GeneratedScan {
 ///         params file or an unknown id, Error(algorithm) if the model cannot be built.
 GeneratedScan generate_scan(const GenerateRequest& rq);
 
-/// Parses "MIN:MAX" (or one number) hole diameters [mm]. @throws Error(usage).
+/// Parses "MIN:MAX" (or one number) hole diameters [mm], 0 < MIN <= MAX <= 100. @throws Error(usage).
 void parse_hole_diameters(const std::string& text, double* min_mm, double* max_mm);
 /// "normal" or "isotropic". @throws Error(usage).
 NoiseDirection parse_noise_direction(const std::string& text);

@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
       .option("-D", "--noise-direction", &noise_dir, "noise along the 'normal' or 'isotropic'")
       .option("-f", "--outlier-fraction", &rq.outlier_fraction, "share of outliers and spikes in the output", 0.0, 0.49)
       .option("-r", "--holes", &rq.random_holes, "random holes besides the model's own (-1: 0 for a mesh, 1 for a model)", -1, 1000)
-      .option("-R", "--hole-diameter-mm", &holes_diam, "random hole diameter range MIN:MAX [mm]")
+      .option("-R", "--hole-diameter-mm", &holes_diam, "random hole diameter range MIN:MAX [mm], at most 100")
       .flag("-0", "--no-model-holes", &rq.no_model_holes, "generated models: no holes under the chin / in the ears")
       .option("-S", "--seed", &seed, "random seed (same seed, same bytes)", 0, 9007199254740992.0);
   return pipeline::run_main(cli, argc, argv, [&] {

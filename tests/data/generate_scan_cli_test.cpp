@@ -67,6 +67,11 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
   EXPECT_EQ(run("--kind head --id medium --out " + tmp + "/x.ply"), 1);  // no --params
   EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 20:10 --out " + tmp + "/x.ply"), 1);
+  // wider than any scanner hole: a usage error up front (it was exit 3, "no room", after sampling)
+  EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 10:1e300 --out " + tmp + "/x.ply"), 1);
+  EXPECT_NE(slurp(tmp + "/stderr.txt").find("--hole-diameter-mm: MAX 1e+300 mm in '10:1e300' is wider than 100 mm"),
+            std::string::npos)
+      << slurp(tmp + "/stderr.txt");
   EXPECT_EQ(run("--from-mesh /nonexistent.stl --out " + tmp + "/x.ply"), 2);
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
   // The headforms file given for a cup: the error named the cups' 'average' face, which that file
