@@ -562,14 +562,14 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   // 2. Outliers: mean k-NN distance above outlier_factor × the cloud's average spacing.
   clock.start("outlier removal");
   const std::size_t before = pn.size();
-  internal::remove_far_points(pn, k, opt.outlier_factor * internal::average_spacing(pn, k));
+  internal::remove_points_beyond_spacing(pn, k, opt.outlier_factor);
   // Isolated points: the k-NN test above misses a lone outlier beside a scan hole, whose 24
   // neighbours lie on one side at 3-5 mm like a hole's rim points' do (generated large head,
   // 200k points: one 3.2 mm off the surface inside a nape hole kept a lip of Poisson's fill
   // there, 1.5 mm off after repair). Its few nearest neighbours are 4-6 spacings away where a
   // surface point's are about one (even on a thin ear rim): the same test on 4 neighbours.
   const unsigned k_isolated = 4;
-  internal::remove_far_points(pn, k_isolated, opt.outlier_factor * internal::average_spacing(pn, k_isolated));
+  internal::remove_points_beyond_spacing(pn, k_isolated, opt.outlier_factor);
   st.outliers_removed = before - pn.size();
   if (pn.size() < min_points)
     throw pipeline::bad_input("point cloud", "only " + std::to_string(pn.size()) +

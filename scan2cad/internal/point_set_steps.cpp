@@ -9,6 +9,7 @@
 #include <CGAL/remove_outliers.h>
 
 #include <algorithm>
+#include <iterator>
 #include <limits>
 
 namespace scan2cad::internal {
@@ -35,6 +36,22 @@ double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k) {
   return pn.empty() ? 0.0 : sum / double(pn.size());
 }
 
+namespace {
+
+// CGAL's remove_outliers partition of (score, point) pairs: the points scored below t2 are kept,
+// in the order std::partition leaves them (not stable), as CGAL leaves them.
+std::size_t keep_below(std::vector<std::pair<double, PointWithNormal>>& scored, double t2,
+                       std::vector<PointWithNormal>& pn) {
+  const auto end_kept =
+      std::partition(scored.begin(), scored.end(), [t2](const std::pair<double, PointWithNormal>& p) { return p.first < t2; });
+  const std::size_t removed = std::size_t(scored.end() - end_kept);
+  pn.clear();
+  for (auto it = scored.begin(); it != end_kept; ++it) pn.push_back(it->second);
+  return removed;
+}
+
+}  // namespace
+
 std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, double threshold_distance_mm) {
   std::vector<std::pair<double, PointWithNormal>> scored(pn.size());
   {
@@ -43,14 +60,34 @@ std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, doub
       scored[i] = {CGAL::internal::compute_avg_knn_sq_distance_3(pn[i].first, query, k, 0.0), pn[i]};
     });
   }
-  // CGAL's partition (not stable: the kept points come in the order CGAL gives them)
-  const double t2 = threshold_distance_mm * threshold_distance_mm;
-  const auto end_kept =
-      std::partition(scored.begin(), scored.end(), [t2](const std::pair<double, PointWithNormal>& p) { return p.first < t2; });
-  const std::size_t removed = std::size_t(scored.end() - end_kept);
-  pn.clear();
-  for (auto it = scored.begin(); it != end_kept; ++it) pn.push_back(it->second);
-  return removed;
+  return keep_below(scored, threshold_distance_mm * threshold_distance_mm, pn);
+}
+
+std::size_t remove_points_beyond_spacing(std::vector<PointWithNormal>& pn, unsigned k, double factor) {
+  if (pn.empty()) return 0;
+  std::vector<std::pair<double, PointWithNormal>> scored(pn.size());
+  std::vector<double> spacing(pn.size());
+  {
+    PointNeighborQuery query(pn, PointWithNormalPointMap());
+    for_each_point(pn.size(), [&](std::size_t i) {
+      // the sums of CGAL::internal::compute_average_spacing and compute_avg_knn_sq_distance_3,
+      // over the one neighbour list both would fetch
+      std::vector<pipeline::Point> neighbors;
+      query.get_points(pn[i].first, k, 0, std::back_inserter(neighbors));
+      double sum_distances = 0, sum_squared = 0;
+      for (const pipeline::Point& p : neighbors) {
+        const double d2 = CGAL::squared_distance(pn[i].first, p);
+        sum_distances += CGAL::approximate_sqrt(d2);
+        sum_squared += d2;
+      }
+      spacing[i] = sum_distances / double(neighbors.size());
+      scored[i] = {sum_squared / double(neighbors.size()), pn[i]};
+    });
+  }
+  double sum = 0;  // in point order, as average_spacing
+  for (double s : spacing) sum += s;
+  const double threshold_mm = factor * (sum / double(pn.size()));
+  return keep_below(scored, threshold_mm * threshold_mm, pn);
 }
 
 void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k) {

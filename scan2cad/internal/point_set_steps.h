@@ -43,6 +43,11 @@ double average_spacing(const std::vector<PointWithNormal>& pn, unsigned k);
 /// d², in the order CGAL leaves them. Returns the number removed.
 std::size_t remove_far_points(std::vector<PointWithNormal>& pn, unsigned k, double threshold_distance_mm);
 
+/// remove_far_points(pn, k, factor × average_spacing(pn, k)), bit for bit, with one k-nearest
+/// query per point instead of two: both means are taken over the same neighbours, in the same
+/// order. Returns the number removed.
+std::size_t remove_points_beyond_spacing(std::vector<PointWithNormal>& pn, unsigned k, double factor);
+
 /// CGAL::jet_smooth_point_set(points, k): each point projected onto the quadric jet of its k
 /// nearest points (all fitted on the unsmoothed positions); the normals are left as they are.
 void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k);

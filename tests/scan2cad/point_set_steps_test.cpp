@@ -68,6 +68,26 @@ TEST(point_set_steps, remove_far_points_is_cgals_remove_outliers) {
       [&](const std::vector<PointWithNormal>& ours) { EXPECT_TRUE(ours == cgal); });
 }
 
+// reconstruct's outlier step: the fused query gives what the two functions give (k = 24 and the
+// isolated-point pass's k = 4)
+TEST(point_set_steps, remove_points_beyond_spacing_is_the_two_steps_in_one) {
+  const auto pn = scan(20000);
+  for (unsigned k : {24u, 4u}) {
+    SCOPED_TRACE("k = " + std::to_string(k));
+    auto two_steps = pn;
+    const std::size_t removed = scan2cad::internal::remove_far_points(
+        two_steps, k, 2.0 * scan2cad::internal::average_spacing(two_steps, k));
+    ASSERT_GT(removed, 0u);  // the 1 % outliers give it something to remove
+    with_one_and_two_threads(
+        [&] {
+          auto ours = pn;
+          EXPECT_EQ(scan2cad::internal::remove_points_beyond_spacing(ours, k, 2.0), removed);
+          return ours;
+        },
+        [&](const std::vector<PointWithNormal>& ours) { EXPECT_TRUE(ours == two_steps); });
+  }
+}
+
 TEST(point_set_steps, jet_smooth_and_jet_normals_are_cgals) {
   const auto pn = scan(20000);
   auto cgal = pn;
