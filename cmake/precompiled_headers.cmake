@@ -26,9 +26,9 @@ set(PCH_HEADERS
   <Eigen/Geometry>
   <algorithm> <array> <cmath> <cstdio> <functional> <map> <memory> <string> <vector>)
 
-# The core's files that include none of it (command line, units, progress, atomic writes, the .msh
-# reader): the PCH would make them slower.
-set(PCH_SKIP_SOURCES cli.cpp units.cpp progress.cpp atomic_write.cpp read_msh.cpp)
+# The core's files that include none of it (command line, units, progress, atomic writes, file
+# checks, the .msh reader): the PCH would make them slower.
+set(PCH_SKIP_SOURCES cli.cpp units.cpp progress.cpp atomic_write.cpp require_file.cpp read_msh.cpp)
 
 # Every build-system target under dir (recursively).
 function(pch_collect_targets dir out)

@@ -2,11 +2,11 @@
 #include "pipeline/read_msh.h"
 
 #include <cmath>
-#include <filesystem>
 #include <map>
 
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
+#include "pipeline/require_file.h"
 
 namespace pipeline {
 namespace {
@@ -69,8 +69,7 @@ MshFile read_open_model(const std::string& path) {
 }  // namespace
 
 MshFile read_msh(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw bad_input(path, "no such file");
+  require_file(path);
   GmshSession session;
   try {
     gmsh::open(path);

@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "pipeline/error.h"
+#include "pipeline/require_file.h"
 
 namespace fs = std::filesystem;
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -35,13 +36,6 @@ std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   return ext;
-}
-
-void check_file(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw bad_input(path, "no such file");
-  if (fs::is_directory(path, ec)) throw bad_input(path, "is a directory, expected a file");
-  if (fs::file_size(path, ec) == 0) throw bad_input(path, "file is empty");
 }
 
 // `xyz` are points or normals; the error names the `element` and what of it is not finite.
@@ -254,7 +248,7 @@ void scale_points(std::vector<Point>& pts, double s) {
 }  // namespace
 
 Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
-  check_file(path);
+  require_file(path);
   const std::string ext = lower_extension(path);
   Scan scan;
   if (ext == ".xyz" || ext == ".pts" || ext == ".txt") scan.cloud = read_xyz(path);
@@ -278,7 +272,7 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
 }
 
 SurfaceMesh read_surface_mesh(const std::string& path) {
-  check_file(path);
+  require_file(path);
   SurfaceMesh mesh;
   const std::string ext = lower_extension(path);
   bool ok = false;

@@ -238,7 +238,7 @@ TEST(layers_cli, empty_truncated_or_nan_msh_exits_2_with_one_line_naming_it) {
       "$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n10 nan 0\n0 10 0\n$EndNodes\n"
       "$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n";
   const std::tuple<std::string, std::string, std::string> bad[] = {
-      {"empty.msh", "", "no nodes"},
+      {"empty.msh", "", "file is empty"},
       {"truncated.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n", "gmsh cannot read it"},
       {"nan.msh", triangle_with_nan_node, "node 2 has a non-finite coordinate"},
   };

@@ -73,7 +73,12 @@ TEST(read_msh, bad_files_give_one_line_naming_the_file) {
   const std::string missing = (scratch_dir() / "missing.msh").string();
   EXPECT_EQ(msh_error_of(missing), missing + ": no such file");
   const std::string empty = write_msh("empty.msh", "");
-  EXPECT_EQ(msh_error_of(empty), empty + ": no nodes (empty, or not a gmsh mesh)");
+  EXPECT_EQ(msh_error_of(empty), empty + ": file is empty");
+  const std::string folder = (scratch_dir() / "folder.msh").string();
+  std::filesystem::create_directories(folder);
+  EXPECT_EQ(msh_error_of(folder), folder + ": is a directory, expected a file");
+  const std::string header_only = write_msh("header_only.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+  EXPECT_EQ(msh_error_of(header_only), header_only + ": no nodes (empty, or not a gmsh mesh)");
   const std::string cut = square_msh().substr(0, 200);
   const std::string truncated = write_msh("truncated.msh", cut);
   EXPECT_EQ(msh_error_of(truncated).rfind(truncated + ": gmsh cannot read it", 0), 0u) << msh_error_of(truncated);
@@ -86,7 +91,7 @@ TEST(read_msh, bad_files_give_one_line_naming_the_file) {
   const std::string dangling_error = msh_error_of(dangling);
   EXPECT_NE(dangling_error.find(dangling + ": "), std::string::npos) << dangling_error;
   EXPECT_NE(dangling_error.find("99"), std::string::npos) << dangling_error;
-  for (const std::string& path : {empty, truncated, nan, inf, dangling}) {
+  for (const std::string& path : {empty, folder, header_only, truncated, nan, inf, dangling}) {
     const std::string e = msh_error_of(path);
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }

@@ -1,0 +1,18 @@
+// require_file: see require_file.h.
+#include "pipeline/require_file.h"
+
+#include <filesystem>
+
+#include "pipeline/error.h"
+
+namespace pipeline {
+
+void require_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw bad_input(path, "no such file");
+  if (fs::is_directory(path, ec)) throw bad_input(path, "is a directory, expected a file");
+  if (fs::file_size(path, ec) == 0) throw bad_input(path, "file is empty");
+}
+
+}  // namespace pipeline

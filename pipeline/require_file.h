@@ -1,0 +1,13 @@
+#pragma once
+/// require_file: the checks every reader of a user's file makes before parsing it.
+///
+/// Input: a path. Returns when it names an existing, non-empty file; otherwise throws
+/// pipeline::Error(bad_input) with one line naming it: "no such file", "is a directory, expected
+/// a file" or "file is empty".
+#include <string>
+
+namespace pipeline {
+
+void require_file(const std::string& path);
+
+}  // namespace pipeline
