@@ -3,9 +3,10 @@
 /// finalised after it.
 ///
 /// gmsh keeps global state, so each reader and writer of .msh files, and each stage that meshes
-/// with gmsh, opens a session for the duration of its work (sessions do not nest). gmsh also sets the OpenMP thread count
-/// (General.NumThreads) when it initialises and reads files; the session gives the caller's count
-/// back when it closes, so a solver running on two threads keeps them after writing a mesh.
+/// with gmsh, opens a session for the duration of its work (sessions do not nest). gmsh also sets
+/// the OpenMP thread count (General.NumThreads) when it initialises and reads files; the session
+/// gives the caller's count back when it closes, so a solver running on two threads keeps them
+/// after writing a mesh.
 #include <omp.h>
 
 #include <gmsh.h>
