@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "pipeline/error.h"
+#include "pipeline/require_file.h"
 
 namespace fs = std::filesystem;
 
@@ -62,6 +63,7 @@ void write_text_atomic(const std::string& path, const std::string& text) {
 }
 
 std::string read_text(const std::string& path) {
+  require_file(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw bad_input(path, "cannot open file");
   std::ostringstream ss;

@@ -31,7 +31,8 @@ void write_all_or_none(const std::vector<Output>& outputs);
 /// Writes `text` to `path` atomically.
 void write_text_atomic(const std::string& path, const std::string& text);
 
-/// Reads a whole file into a string. @throws Error(bad_input) if missing or unreadable.
+/// Reads a whole file into a string. @throws Error(bad_input) naming it if it is missing, a
+/// directory, empty (require_file) or unreadable.
 std::string read_text(const std::string& path);
 
 }  // namespace pipeline

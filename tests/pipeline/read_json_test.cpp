@@ -45,6 +45,12 @@ TEST(read_json, missing_empty_and_malformed_files_are_bad_input_naming_the_file)
     EXPECT_EQ(std::string(e.what()).find("json.exception"), std::string::npos) << e.what();
   }
   EXPECT_NE(std::string(error_of(empty).what()).find("empty JSON file"), std::string::npos);
+  EXPECT_EQ(std::string(error_of(missing).what()), missing + ": no such file");
+  // a folder read as a file gave "empty JSON file"; a 0-byte file is caught before parsing
+  EXPECT_EQ(std::string(error_of(dir.string()).what()), dir.string() + ": is a directory, expected a file");
+  const std::string zero = (dir / "zero.json").string();
+  std::ofstream(zero).close();
+  EXPECT_EQ(std::string(error_of(zero).what()), zero + ": file is empty");
   EXPECT_NE(std::string(error_of(truncated).what()).find("not valid JSON: parse error at line 1"), std::string::npos)
       << error_of(truncated).what();
   EXPECT_THROW(pipeline::parse_json("[1,", "deck"), pipeline::Error);
