@@ -1,13 +1,12 @@
 #include "pipeline/cli.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <sstream>
 
 #include "pipeline/error.h"
+#include "pipeline/lower_extension.h"
 
 namespace pipeline {
 
@@ -140,8 +139,7 @@ std::string Cli::resolved() const {
 }
 
 void require_extension(const std::string& option, const std::string& path, const std::vector<std::string>& extensions) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lower_extension(path);
   if (std::find(extensions.begin(), extensions.end(), ext) != extensions.end()) return;
   std::string list;
   for (std::size_t i = 0; i < extensions.size(); ++i)

@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "pipeline/error.h"
+#include "pipeline/lower_extension.h"
 #include "pipeline/require_file.h"
 
 namespace fs = std::filesystem;
@@ -31,12 +32,6 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 namespace pipeline {
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 // `xyz` are points or normals; the error names the `element` and what of it is not finite.
 template <class Xyz>

@@ -5,11 +5,11 @@
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/IO/write_ply_points.h>
 
-#include <filesystem>
 #include <fstream>
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/lower_extension.h"
 
 namespace pipeline {
 
@@ -19,7 +19,7 @@ namespace {
 // through write_other(temporary path), where CGAL picks the format from the extension.
 template <class WritePly, class WriteOther>
 void write_mesh_by_extension(const std::string& path, WritePly write_ply, WriteOther write_other) {
-  const std::string ext = std::filesystem::path(path).extension().string();
+  const std::string ext = lower_extension(path);
   write_atomic(path, [&](const std::string& tmp) {
     bool ok;
     if (ext == ".ply") {
@@ -52,7 +52,7 @@ void write_polygon_soup(const std::string& path, const PolygonSoup& soup) {
 }
 
 void write_point_cloud(const std::string& path, const PointCloud& cloud) {
-  const std::string ext = std::filesystem::path(path).extension().string();
+  const std::string ext = lower_extension(path);
   write_atomic(path, [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     const bool normals = cloud.normals.size() == cloud.points.size() && !cloud.points.empty();

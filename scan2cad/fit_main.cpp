@@ -10,12 +10,12 @@
 #include <gmsh.h>
 
 #include <cstdio>
-#include <filesystem>
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
+#include "pipeline/lower_extension.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/units.h"
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     pipeline::require_extension("--out", out, {".ply", ".msh"});
-    const std::string ext = std::filesystem::path(out).extension().string();
+    const std::string ext = pipeline::lower_extension(out);
     pipeline::Progress progress("fit", 0);
     const pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(mesh.points()), kind);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
@@ -81,6 +82,26 @@ TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
   std::ifstream pin(ply, std::ios::binary);
   std::string pbytes((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
   EXPECT_EQ(error_kind_of(tmp_file("cut.ply", pbytes.substr(0, pbytes.size() / 2))), pipeline::ErrorKind::bad_input);
+}
+
+// An ending require_extension accepts in upper case is one the writers handle: a point cloud to
+// "X.PLY" failed after the work ("unknown point cloud format '.PLY'"), since the writer compared
+// the ending as written. Both formats round trip under an upper-case ending.
+TEST(write_point_cloud, upper_case_endings_are_the_formats_of_their_lower_case) {
+  pipeline::PointCloud c;
+  for (int i = 0; i < 200; ++i) c.points.emplace_back(i * 0.5, (i % 10) * 20.0, (i % 7) * 30.0);
+  for (const std::string name : {"upper.PLY", "upper.XYZ"}) {
+    SCOPED_TRACE(name);
+    const std::string path = (scratch_dir() / name).string();
+    EXPECT_NO_THROW(pipeline::require_extension("--out", path, pipeline::point_cloud_extensions));
+    pipeline::write_point_cloud(path, c);
+    const pipeline::Scan back = pipeline::read_scan(path, {pipeline::Unit::mm});
+    EXPECT_EQ(back.cloud.points.size(), c.points.size());
+  }
+  std::ifstream ply((scratch_dir() / "upper.PLY").string(), std::ios::binary);
+  std::string magic(3, '\0');
+  ply.read(&magic[0], 3);
+  EXPECT_EQ(magic, "ply");
 }
 
 // CGAL's text readers stop at "nan" as at a truncation; the error says which it was.
