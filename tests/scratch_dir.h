@@ -16,6 +16,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <string>
 
@@ -67,4 +68,13 @@ class ScratchDir {
 inline const std::filesystem::path& scratch_dir() {
   static test_support::ScratchDir dir;
   return dir.path();
+}
+
+/// Writes `content` as is (binary) to `name` in the scratch folder, making its sub-folders, and
+/// returns the file's path: the bad-input files the reader tests feed their readers.
+inline std::string scratch_file(const std::string& name, const std::string& content) {
+  const std::filesystem::path p = scratch_dir() / name;
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << content;
+  return p.string();
 }

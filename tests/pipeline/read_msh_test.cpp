@@ -5,7 +5,6 @@
 #include <omp.h>
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "../scratch_dir.h"
@@ -25,13 +24,6 @@ std::string square_msh(const std::string& x_of_node_11 = "1", int shared_edge_en
          "\n$EndElements\n";
 }
 
-std::string write_msh(const std::string& name, const std::string& text) {
-  const auto path = scratch_dir() / name;
-  std::filesystem::create_directories(path.parent_path());
-  std::ofstream(path) << text;
-  return path.string();
-}
-
 // The message of the bad-input error read_msh throws, or "" when it throws none.
 std::string msh_error_of(const std::string& path) {
   try {
@@ -46,7 +38,7 @@ std::string msh_error_of(const std::string& path) {
 }  // namespace
 
 TEST(read_msh, nodes_once_and_groups_with_zero_based_connectivity) {
-  const pipeline::MshFile f = pipeline::read_msh(write_msh("square.msh", square_msh()));
+  const pipeline::MshFile f = pipeline::read_msh(scratch_file("square.msh", square_msh()));
   ASSERT_EQ(f.n_nodes(), 4u);
   EXPECT_EQ(f.node_tags, (std::vector<std::size_t>{10, 11, 12, 13}));
   ASSERT_EQ(f.xyz.size(), 12u);
@@ -72,22 +64,22 @@ TEST(read_msh, nodes_once_and_groups_with_zero_based_connectivity) {
 TEST(read_msh, bad_files_give_one_line_naming_the_file) {
   const std::string missing = (scratch_dir() / "missing.msh").string();
   EXPECT_EQ(msh_error_of(missing), missing + ": no such file");
-  const std::string empty = write_msh("empty.msh", "");
+  const std::string empty = scratch_file("empty.msh", "");
   EXPECT_EQ(msh_error_of(empty), empty + ": file is empty");
   const std::string folder = (scratch_dir() / "folder.msh").string();
   std::filesystem::create_directories(folder);
   EXPECT_EQ(msh_error_of(folder), folder + ": is a directory, expected a file");
-  const std::string header_only = write_msh("header_only.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+  const std::string header_only = scratch_file("header_only.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
   EXPECT_EQ(msh_error_of(header_only), header_only + ": no nodes (empty, or not a gmsh mesh)");
   const std::string cut = square_msh().substr(0, 200);
-  const std::string truncated = write_msh("truncated.msh", cut);
+  const std::string truncated = scratch_file("truncated.msh", cut);
   EXPECT_EQ(msh_error_of(truncated).rfind(truncated + ": gmsh cannot read it", 0), 0u) << msh_error_of(truncated);
   // gmsh reads "nan" as a number: the reader has to name the node
-  const std::string nan = write_msh("nan.msh", square_msh("nan"));
+  const std::string nan = scratch_file("nan.msh", square_msh("nan"));
   EXPECT_EQ(msh_error_of(nan), nan + ": node 11 has a non-finite coordinate");
-  const std::string inf = write_msh("inf.msh", square_msh("inf"));
+  const std::string inf = scratch_file("inf.msh", square_msh("inf"));
   EXPECT_EQ(msh_error_of(inf), inf + ": node 11 has a non-finite coordinate");
-  const std::string dangling = write_msh("dangling.msh", square_msh("1", 99));
+  const std::string dangling = scratch_file("dangling.msh", square_msh("1", 99));
   const std::string dangling_error = msh_error_of(dangling);
   EXPECT_NE(dangling_error.find(dangling + ": "), std::string::npos) << dangling_error;
   EXPECT_NE(dangling_error.find("99"), std::string::npos) << dangling_error;
@@ -99,7 +91,7 @@ TEST(read_msh, bad_files_give_one_line_naming_the_file) {
 
 // gmsh sets the OpenMP thread count when it initialises and reads; the caller's count comes back.
 TEST(read_msh, leaves_the_openmp_thread_count_as_it_found_it) {
-  const std::string path = write_msh("square_threads.msh", square_msh());
+  const std::string path = scratch_file("square_threads.msh", square_msh());
   const int before = omp_get_max_threads();
   omp_set_num_threads(3);
   pipeline::read_msh(path);

@@ -15,13 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string tmp_file(const std::string& name, const std::string& content) {
-  const fs::path p = scratch_dir() / name;
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << content;
-  return p.string();
-}
-
 pipeline::ErrorKind error_kind_of(const std::string& path) {
   try {
     pipeline::read_scan(path);
@@ -60,20 +53,20 @@ TEST(read_scan, scales_a_head_written_in_metres) {
 TEST(read_scan, bad_files_give_bad_input_naming_the_file) {
   using pipeline::ErrorKind;
   EXPECT_EQ(error_kind_of("/nonexistent/head.ply"), ErrorKind::bad_input);
-  EXPECT_EQ(error_kind_of(tmp_file("empty.ply", "")), ErrorKind::bad_input);
-  EXPECT_EQ(error_kind_of(tmp_file("text.stl", "this is not a mesh\n")), ErrorKind::bad_input);
-  EXPECT_EQ(error_kind_of(tmp_file("text.ply", "hello world\n")), ErrorKind::bad_input);
-  EXPECT_EQ(error_kind_of(tmp_file("nan.xyz", "0 0 0\n100 0 0\nnan 1 2\n0 200 0\n")), ErrorKind::bad_input);
-  EXPECT_EQ(error_kind_of(tmp_file("garbled.xyz", "0 0 0\n100 x 0\n")), ErrorKind::bad_input);
-  EXPECT_EQ(error_kind_of(tmp_file("huge.xyz", "0 0 0\n9e6 0 0\n0 9e6 0\n")), ErrorKind::bad_input);
-  EXPECT_EQ(error_kind_of(tmp_file("scan.doc", "0 0 0\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("empty.ply", "")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("text.stl", "this is not a mesh\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("text.ply", "hello world\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("nan.xyz", "0 0 0\n100 0 0\nnan 1 2\n0 200 0\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("garbled.xyz", "0 0 0\n100 x 0\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("huge.xyz", "0 0 0\n9e6 0 0\n0 9e6 0\n")), ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("scan.doc", "0 0 0\n")), ErrorKind::bad_input);
 }
 
 TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
   const std::string stl = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
   std::ifstream in(stl, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(error_kind_of(tmp_file("cut.stl", bytes.substr(0, bytes.size() / 2))), pipeline::ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("cut.stl", bytes.substr(0, bytes.size() / 2))), pipeline::ErrorKind::bad_input);
 
   pipeline::PointCloud c;
   for (int i = 0; i < 1000; ++i) c.points.emplace_back(i * 0.2, (i % 10) * 20.0, (i % 7) * 30.0);
@@ -81,7 +74,7 @@ TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
   pipeline::write_point_cloud(ply, c);
   std::ifstream pin(ply, std::ios::binary);
   std::string pbytes((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(error_kind_of(tmp_file("cut.ply", pbytes.substr(0, pbytes.size() / 2))), pipeline::ErrorKind::bad_input);
+  EXPECT_EQ(error_kind_of(scratch_file("cut.ply", pbytes.substr(0, pbytes.size() / 2))), pipeline::ErrorKind::bad_input);
 }
 
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
@@ -116,17 +109,17 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
     }
     return "no error";
   };
-  const std::string nan_ply = tmp_file("nan_ascii.ply", header + "0 0 0\n100 0 0\n0 NaN 0\n3 0 1 2\n");
+  const std::string nan_ply = scratch_file("nan_ascii.ply", header + "0 0 0\n100 0 0\n0 NaN 0\n3 0 1 2\n");
   EXPECT_EQ(message_of(nan_ply), nan_ply + ": line 12: a coordinate is NaN or infinite");
-  const std::string inf_off = tmp_file("inf.off", "OFF\n3 1 0\n0 0 0\n-inf 0 0\n0 100 0\n3 0 1 2\n");
+  const std::string inf_off = scratch_file("inf.off", "OFF\n3 1 0\n0 0 0\n-inf 0 0\n0 100 0\n3 0 1 2\n");
   EXPECT_EQ(message_of(inf_off), inf_off + ": line 4: a coordinate is NaN or infinite");
-  const std::string cut_ply = tmp_file("cut_ascii.ply", header + "0 0 0\n100 0 0\n");
+  const std::string cut_ply = scratch_file("cut_ascii.ply", header + "0 0 0\n100 0 0\n");
   EXPECT_EQ(message_of(cut_ply), cut_ply + ": unreadable or truncated PLY");
   // a header comment with "inf" in it is not a coordinate
-  const std::string commented = tmp_file("commented.ply", "ply\nformat ascii 1.0\ncomment inf nan information\n" +
+  const std::string commented = scratch_file("commented.ply", "ply\nformat ascii 1.0\ncomment inf nan information\n" +
                                                               header.substr(header.find("element")) + "0 0 0\n100 0 0\n");
   EXPECT_EQ(message_of(commented), commented + ": unreadable or truncated PLY");
-  const std::string last_word = tmp_file("nan_at_end.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 nan");
+  const std::string last_word = scratch_file("nan_at_end.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 nan");
   EXPECT_EQ(message_of(last_word), last_word + ": line 5: a coordinate is NaN or infinite");
 }
 
@@ -147,11 +140,11 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
                              "property double z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n";
   const std::string points = "0 0 0\n100 0 0\n50 80 0\n50 -80 0\n50 0 80\n";
   // three triangles on the edge 0-1: a fin
-  const std::string fin = tmp_file("fin.ply", header + points + "3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  const std::string fin = scratch_file("fin.ply", header + points + "3 0 1 2\n3 1 0 3\n3 0 1 4\n");
   EXPECT_EQ(message_of(fin), fin + ": not a 2-manifold polygon mesh (3 faces read; run repair first)");
-  const std::string cut = tmp_file("cut_mesh.ply", header + points + "3 0 1 2\n3 1 0");
+  const std::string cut = scratch_file("cut_mesh.ply", header + points + "3 0 1 2\n3 1 0");
   EXPECT_EQ(message_of(cut), cut + ": unreadable or truncated PLY");
-  const std::string two = tmp_file("two.ply", header + points + "3 0 1 2\n3 1 0 3\n3 2 1 4\n");
+  const std::string two = scratch_file("two.ply", header + points + "3 0 1 2\n3 1 0 3\n3 2 1 4\n");
   EXPECT_EQ(message_of(two), "no error");
 }
 

@@ -47,12 +47,6 @@ CliRun run(const std::string& args, const std::string& env = "") {
   return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, ss.str()};
 }
 
-std::string write(const std::string& name, const std::string& content) {
-  fs::create_directories(dir);
-  const auto p = dir / name;
-  std::ofstream(p, std::ios::binary) << content;
-  return p.string();
-}
 
 std::string bytes_of(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -86,18 +80,18 @@ pipeline::PointCloud niosh_cloud(double scale) {
 
 TEST(reconstruct_cli, missing_file_is_rejected) { expect_rejected("reconstruct", (dir / "nope.ply").string(), "no such file"); }
 
-TEST(reconstruct_cli, empty_file_is_rejected) { expect_rejected("reconstruct", write("empty.ply", ""), "empty"); }
+TEST(reconstruct_cli, empty_file_is_rejected) { expect_rejected("reconstruct", scratch_file("empty.ply", ""), "empty"); }
 
 TEST(reconstruct_cli, text_file_that_is_not_a_mesh_is_rejected) {
-  expect_rejected("reconstruct", write("letter.stl", "Dear colleague,\nplease find the scan attached.\n"), "not an STL file: text");
+  expect_rejected("reconstruct", scratch_file("letter.stl", "Dear colleague,\nplease find the scan attached.\n"), "not an STL file: text");
 }
 
 TEST(reconstruct_cli, nan_coordinates_are_rejected) {
-  expect_rejected("reconstruct", write("nan.xyz", "0 0 0\n100 0 0\nnan 1 2\n0 200 0\n"), "non-finite");
+  expect_rejected("reconstruct", scratch_file("nan.xyz", "0 0 0\n100 0 0\nnan 1 2\n0 200 0\n"), "non-finite");
 }
 
 TEST(reconstruct_cli, three_points_are_rejected) {
-  expect_rejected("reconstruct", write("three.xyz", "0 0 0\n200 0 0\n0 200 0\n"), "too few");
+  expect_rejected("reconstruct", scratch_file("three.xyz", "0 0 0\n200 0 0\n0 200 0\n"), "too few");
 }
 
 // CGAL's Poisson crashed (SIGSEGV) on points on a plane or a line, and did not finish contouring
@@ -115,10 +109,10 @@ TEST(reconstruct_cli, points_on_a_plane_or_a_line_are_rejected) {
   for (int i = 0; i < 20; ++i)
     with_outliers += std::to_string(rng.uniform() * 200) + " " + std::to_string(rng.uniform() * 200) + " " +
                      std::to_string(rng.uniform() * 200 - 100) + "\n";
-  expect_rejected("reconstruct", write("plane.xyz", plane), "on a plane or a line");
-  expect_rejected("reconstruct", write("noisy_plane.xyz", noisy_plane), "on a plane or a line");
-  expect_rejected("reconstruct", write("line.xyz", line), "on a plane or a line");
-  expect_rejected("reconstruct", write("plane_with_outliers.xyz", with_outliers), "on a plane or a line");
+  expect_rejected("reconstruct", scratch_file("plane.xyz", plane), "on a plane or a line");
+  expect_rejected("reconstruct", scratch_file("noisy_plane.xyz", noisy_plane), "on a plane or a line");
+  expect_rejected("reconstruct", scratch_file("line.xyz", line), "on a plane or a line");
+  expect_rejected("reconstruct", scratch_file("plane_with_outliers.xyz", with_outliers), "on a plane or a line");
 }
 
 TEST(reconstruct_cli, truncated_binary_ply_is_rejected) {
@@ -126,32 +120,32 @@ TEST(reconstruct_cli, truncated_binary_ply_is_rejected) {
   fs::create_directories(dir);
   pipeline::write_point_cloud(full, niosh_cloud(1.0));
   const std::string b = bytes_of(full);
-  expect_rejected("reconstruct", write("cut.ply", b.substr(0, b.size() / 2)), "truncated");
+  expect_rejected("reconstruct", scratch_file("cut.ply", b.substr(0, b.size() / 2)), "truncated");
 }
 
 TEST(reconstruct_cli, truncated_binary_stl_is_rejected) {
   const std::string b = bytes_of(niosh_medium);
-  expect_rejected("reconstruct", write("cut.stl", b.substr(0, b.size() / 2)), "truncated binary STL: its header declares");
+  expect_rejected("reconstruct", scratch_file("cut.stl", b.substr(0, b.size() / 2)), "truncated binary STL: its header declares");
 }
 
 TEST(repair_cli, truncated_binary_stl_is_rejected) {
   const std::string b = bytes_of(niosh_medium);
-  expect_rejected("repair", write("cut_r.stl", b.substr(0, b.size() / 3)), "truncated binary STL: its header declares");
+  expect_rejected("repair", scratch_file("cut_r.stl", b.substr(0, b.size() / 3)), "truncated binary STL: its header declares");
 }
 
 // A flat patch given as a head was closed into two coincident sheets, and CGAL's remeshing then
 // crashed (exit 139, no message).
 TEST(repair_cli, a_single_triangle_as_a_head_is_rejected) {
-  expect_rejected("repair", write("triangle.off", "OFF\n3 1 0\n0 0 0\n200 0 0\n0 200 0\n3 0 1 2\n"), "flat patch");
+  expect_rejected("repair", scratch_file("triangle.off", "OFF\n3 1 0\n0 0 0\n200 0 0\n0 200 0\n3 0 1 2\n"), "flat patch");
 }
 
 TEST(repair_cli, a_flat_square_as_a_head_is_rejected) {
-  expect_rejected("repair", write("square.off", "OFF\n4 2 0\n0 0 0\n200 0 0\n200 200 0\n0 200 0\n3 0 1 2\n3 0 2 3\n"),
+  expect_rejected("repair", scratch_file("square.off", "OFF\n4 2 0\n0 0 0\n200 0 0\n200 200 0\n0 200 0\n3 0 1 2\n3 0 2 3\n"),
                   "flat patch");
 }
 
 TEST(repair_cli, point_cloud_is_rejected) {
-  expect_rejected("repair", write("cloud.xyz", "0 0 0\n200 0 0\n0 200 0\n0 0 200\n"), "point cloud");
+  expect_rejected("repair", scratch_file("cloud.xyz", "0 0 0\n200 0 0\n0 200 0\n0 0 200\n"), "point cloud");
 }
 
 TEST(reconstruct_cli, a_scan_in_metres_comes_out_in_mm) {
