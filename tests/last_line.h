@@ -6,16 +6,13 @@
 #pragma once
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
+
+#include "file_text.h"
 
 inline std::string last_line(const std::string& text) {
   const std::string trimmed = text.substr(0, text.find_last_not_of('\n') + 1);
   return trimmed.substr(trimmed.find_last_of('\n') + 1);
 }
 
-inline std::string last_line_of(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return last_line(std::string(std::istreambuf_iterator<char>(in), {}));
-}
+inline std::string last_line_of(const std::filesystem::path& path) { return last_line(file_text(path)); }

@@ -1,14 +1,15 @@
 // The align program on bad input: one clear error line, the documented exit code, no output.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
-#include "../scratch_dir.h"
+#include "../file_text.h"
 #include "../last_line.h"
+#include "../run_command.h"
+#include "../scratch_dir.h"
 #include "pipeline/read_json.h"
 
 namespace fs = std::filesystem;
@@ -21,15 +22,10 @@ const fs::path dir = scratch_dir() / "align_cli";
 
 int run(const std::string& args) {
   fs::create_directories(dir);
-  const std::string cmd = std::string(BIN_DIR) + "/align " + args + " 2> " + (dir / "err.txt").string();
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  return run_command(std::string(BIN_DIR) + "/align " + args + " 2> " + (dir / "err.txt").string());
 }
 
-std::string err() {
-  std::ifstream f(dir / "err.txt");
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+std::string err() { return file_text(dir / "err.txt"); }
 
 std::string outs() { return " --out " + (dir / "a.ply").string() + " --transform " + (dir / "a.json").string(); }
 
@@ -67,8 +63,7 @@ TEST(align_cli, aligns_the_niosh_medium_headform) {
   fs::remove_all(dir);
   EXPECT_EQ(run("--in " + std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl --kind head" + outs()), 0) << err();
   EXPECT_TRUE(fs::exists(dir / "a.ply"));
-  std::ifstream f(dir / "a.json");
-  const std::string json((std::istreambuf_iterator<char>(f)), {});
+  const std::string json = file_text(dir / "a.json");
   EXPECT_NE(json.find("\"matrix\""), std::string::npos);
 }
 

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "../layers/layers_fixtures.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 #include "layering/layers.h"
 #include "meshing/assemble.h"
@@ -194,7 +195,7 @@ namespace {
 // option echo (every stage logs its resolved options first).
 int run_stage(const std::string& args, std::vector<std::string>* err_lines) {
   const std::string err = (scratch_dir() / "err.txt").string();
-  const int rc = WEXITSTATUS(std::system((std::string(BIN_DIR) + "/" + args + " 2>" + err).c_str()));
+  const int rc = run_command(std::string(BIN_DIR) + "/" + args + " 2>" + err);
   const std::string options_line = args.substr(0, args.find(' ')) + ": options:";
   std::ifstream in(err);
   for (std::string l; std::getline(in, l);)

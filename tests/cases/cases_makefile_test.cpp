@@ -5,7 +5,6 @@
 // stage program re-runs exactly its stage and those after it; a failed stage leaves no output;
 // nothing runs twice.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -15,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -54,11 +54,11 @@ class CasesMake : public ::testing::Test {
     fs::remove(build_ / "log.txt");
     const std::string cmd = env + " make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases BUILD=" +
                             build_.string() + " " + args + " > " + (build_ / "make.out").string() + " 2>&1";
-    const int rc = std::system(cmd.c_str());
+    const int code = run_command(cmd);
     ran->clear();
     std::ifstream log(build_ / "log.txt");
     for (std::string line; std::getline(log, line);) ran->push_back(line);
-    return WEXITSTATUS(rc);
+    return code;
   }
   // How many logged lines are stage `stage` writing under `where` (a path fragment).
   static int count(const std::vector<std::string>& ran, const std::string& stage, const std::string& where) {

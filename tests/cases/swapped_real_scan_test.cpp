@@ -7,7 +7,6 @@
 // the stages, as Makefile.cases calls them, fit together on data that is not generated.
 // About 75 s of CPU on this machine (fit of the 235,000-triangle head: 24 s, reconstruct: 17 s).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -17,18 +16,10 @@
 
 #include "pipeline/atomic_write.h"
 #include "../last_line.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
-
-namespace {
-
-int shell(const std::string& cmd) {
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-}  // namespace
 
 TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_model) {
   // A BUILD folder of its own, so the shared heads and respirators of build/ are not touched; its
@@ -39,7 +30,7 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
   fs::create_directory_symlink(BIN_DIR, build / "bin");
 
   const fs::path mm = scratch_dir() / "niosh_large_mm.xyz", metres = scratch_dir() / "niosh_large_m.xyz";
-  ASSERT_EQ(shell(std::string(BIN_DIR) + "/generate_scan --from-mesh " SHARED_DATA_DIR "/headforms/NIOSH_large_20k.stl" +
+  ASSERT_EQ(run_command(std::string(BIN_DIR) + "/generate_scan --from-mesh " SHARED_DATA_DIR "/headforms/NIOSH_large_20k.stl" +
                   " --points 80000 --noise-mm 0.2 --outlier-fraction 0.005 --holes 2 --seed 5 --out " + mm.string() +
                   " 2> /dev/null"),
             0);
@@ -52,7 +43,7 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
   }
 
   const fs::path log = scratch_dir() / "make.log";
-  const int rc = shell("make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases case=large_onesize HEADFORM_SCAN=" +
+  const int rc = run_command("make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases case=large_onesize HEADFORM_SCAN=" +
                        metres.string() + " BUILD=" + build.string() + " > " + log.string() + " 2>&1");
   const std::string text = pipeline::read_text(log.string());
   ASSERT_EQ(rc, 0) << text.substr(text.size() > 4000 ? text.size() - 4000 : 0);

@@ -2,27 +2,18 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
+#include "../file_text.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace {
 const std::string bin = std::string(BIN_DIR) + "/generate_scan";
 const std::string tmp = scratch_dir().string();
-int run(const std::string& args) {
-  const int rc = std::system((bin + " " + args + " 2>" + tmp + "/stderr.txt").c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-std::string slurp(const std::string& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+int run(const std::string& args) { return run_command(bin + " " + args + " 2>" + tmp + "/stderr.txt"); }
 const std::string niosh = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
 std::uint64_t fnv1a(const std::string& bytes) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
@@ -37,8 +28,8 @@ TEST(generate_scan, same_seed_same_bytes_different_seed_different) {
   ASSERT_EQ(run(common + " --seed 1 --out " + tmp + "/a.ply"), 0);
   ASSERT_EQ(run(common + " --seed 1 --out " + tmp + "/b.ply"), 0);
   ASSERT_EQ(run(common + " --seed 2 --out " + tmp + "/c.ply"), 0);
-  EXPECT_EQ(slurp(tmp + "/a.ply"), slurp(tmp + "/b.ply"));
-  EXPECT_NE(slurp(tmp + "/a.ply"), slurp(tmp + "/c.ply"));
+  EXPECT_EQ(file_text(tmp + "/a.ply"), file_text(tmp + "/b.ply"));
+  EXPECT_NE(file_text(tmp + "/a.ply"), file_text(tmp + "/c.ply"));
 }
 
 TEST(generate_scan, generated_head_is_deterministic) {
@@ -52,10 +43,10 @@ TEST(generate_scan, generated_head_is_deterministic) {
   // the scanner model updates the hashes (FNV-1a 64 of the PLY). Head: since the ears became
   // half-buried domes (generated_models_test.cpp, every_ray_from_the_centre_...) and the neck
   // cut got a rounded rim; before, 0xb841630f57ca3d11.
-  EXPECT_EQ(fnv1a(slurp(tmp + "/h1.ply")), 0x0301772c61e8f7b9ULL);
+  EXPECT_EQ(fnv1a(file_text(tmp + "/h1.ply")), 0x0301772c61e8f7b9ULL);
   ASSERT_EQ(run("--kind respirator --id onesize --params " + std::string(SOURCE_DIR) +
                 "/data/generator/respirators.json --spacing-mm 1.5 --out " + tmp + "/r1.ply"), 0);
-  EXPECT_EQ(fnv1a(slurp(tmp + "/r1.ply")), 0x085a5d92b518cc39ULL);
+  EXPECT_EQ(fnv1a(file_text(tmp + "/r1.ply")), 0x085a5d92b518cc39ULL);
 }
 
 TEST(generate_scan, help_and_bad_params_give_clear_errors) {
@@ -63,31 +54,31 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   EXPECT_EQ(run("--help"), 0);
   EXPECT_EQ(run("--kind head --id nosuch --params " + std::string(SOURCE_DIR) +
                 "/data/generator/headforms.json --out " + tmp + "/x.ply"), 2);
-  EXPECT_NE(slurp(tmp + "/stderr.txt").find("unknown headform id 'nosuch'"), std::string::npos);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("unknown headform id 'nosuch'"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
   EXPECT_EQ(run("--kind head --id medium --out " + tmp + "/x.ply"), 1);  // no --params
   EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 20:10 --out " + tmp + "/x.ply"), 1);
   // wider than any scanner hole: a usage error up front (it was exit 3, "no room", after sampling)
   EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 10:1e300 --out " + tmp + "/x.ply"), 1);
-  EXPECT_NE(slurp(tmp + "/stderr.txt").find("--hole-diameter-mm: MAX 1e+300 mm in '10:1e300' is wider than 100 mm"),
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("--hole-diameter-mm: MAX 1e+300 mm in '10:1e300' is wider than 100 mm"),
             std::string::npos)
-      << slurp(tmp + "/stderr.txt");
+      << file_text(tmp + "/stderr.txt");
   EXPECT_EQ(run("--from-mesh /nonexistent.stl --out " + tmp + "/x.ply"), 2);
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
   // The headforms file given for a cup: the error named the cups' 'average' face, which that file
   // lacks; now it names what is missing.
   const std::string headforms = std::string(SOURCE_DIR) + "/data/generator/headforms.json";
   EXPECT_EQ(run("--kind respirator --id onesize --params " + headforms + " --out " + tmp + "/x.ply"), 2);
-  EXPECT_NE(slurp(tmp + "/stderr.txt").find(headforms + ": no \"respirators\" object"), std::string::npos)
-      << slurp(tmp + "/stderr.txt");
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find(headforms + ": no \"respirators\" object"), std::string::npos)
+      << file_text(tmp + "/stderr.txt");
   // A dimension in metres is out of range and shown as written (was 0.120600).
-  std::string text = slurp(headforms);
+  std::string text = file_text(headforms);
   text.replace(text.find("\"face_length\": 120.6"), 20, "\"face_length\": 0.1206");
   std::ofstream(tmp + "/metres.json") << text;
   EXPECT_EQ(run("--kind head --id medium --params " + tmp + "/metres.json --out " + tmp + "/x.ply"), 2);
-  EXPECT_NE(slurp(tmp + "/stderr.txt").find("metres.json: headform 'medium': face_length = 0.1206 mm, expected 80..170"),
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("metres.json: headform 'medium': face_length = 0.1206 mm, expected 80..170"),
             std::string::npos)
-      << slurp(tmp + "/stderr.txt");
+      << file_text(tmp + "/stderr.txt");
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
 }
 
@@ -98,17 +89,15 @@ TEST(render_views_script, draws_a_head_and_rejects_what_is_not_a_mesh) {
   std::filesystem::create_directories(tmp);
   const std::string log = tmp + "/render_views.txt";
   auto render = [&](const std::string& mesh, const std::string& png) {
-    const std::string cmd = std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/data/generator/render_views.py " +
-                            mesh + " " + png + " --title head > " + log + " 2>&1";
-    const int rc = std::system(cmd.c_str());
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    return run_command(std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/data/generator/render_views.py " + mesh + " " +
+                       png + " --title head > " + log + " 2>&1");
   };
-  ASSERT_EQ(render(niosh, tmp + "/head.png"), 0) << slurp(log);
-  EXPECT_EQ(slurp(tmp + "/head.png").substr(1, 3), "PNG");
+  ASSERT_EQ(render(niosh, tmp + "/head.png"), 0) << file_text(log);
+  EXPECT_EQ(file_text(tmp + "/head.png").substr(1, 3), "PNG");
   std::ofstream(tmp + "/text.ply") << "this is not a mesh\n";
   for (const std::string name : {"text.ply", "missing.stl"}) {
     EXPECT_NE(render(tmp + "/" + name, tmp + "/bad.png"), 0) << name;
-    const std::string err = slurp(log);
+    const std::string err = file_text(log);
     EXPECT_NE(err.find(name + ": cannot read mesh"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     EXPECT_FALSE(std::filesystem::exists(tmp + "/bad.png")) << name;

@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "layering/internal/segment_landmarks.h"
@@ -15,6 +14,7 @@
 #include "scan2cad/fit.h"
 #include "../niosh_medium_ply.h"
 #include "../last_line.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -66,12 +66,12 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
   const std::string seg = (dir / "seg.ply").string(), out = (dir / "fitted.ply").string();
   pipeline::write_surface_mesh(seg, segmented_medium());
   const std::string fit = std::string(BIN_DIR) + "/fit";
-  EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + seg + " --out " + out + " 2>/dev/null").c_str())), 0);
+  EXPECT_EQ(run_command(fit + " --in " + seg + " --out " + out + " 2>/dev/null"), 0);
   const pipeline::SurfaceMesh back = pipeline::read_surface_mesh(out);
   EXPECT_TRUE((back.property_map<pipeline::FaceIndex, int>(pipeline::part_property).second));
   // No "part" property: bad input (exit 2), no output file.
   const std::string bad = (dir / "bad.ply").string();
-  EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + plain + " --out " + bad + " 2>/dev/null").c_str())), 2);
+  EXPECT_EQ(run_command(fit + " --in " + plain + " --out " + bad + " 2>/dev/null"), 2);
   EXPECT_FALSE(fs::exists(bad));
   // Only part 0, which is a respirator's label (and a head's back_of_head): a head with no face
   // was fitted; now one line names the file and the missing part, exit 2.
@@ -80,7 +80,7 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
   for (auto f : one_part.faces()) part[f] = 0;
   const std::string respirator_like = (dir / "one_part.ply").string(), err = (dir / "err.txt").string();
   pipeline::write_surface_mesh(respirator_like, one_part);
-  EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + respirator_like + " --kind head --out " + bad + " 2>" + err).c_str())), 2);
+  EXPECT_EQ(run_command(fit + " --in " + respirator_like + " --kind head --out " + bad + " 2>" + err), 2);
   EXPECT_EQ(last_line_of(err), "fit: " + respirator_like + ": parts: no face of part forehead: a segmented head has all five (is this a respirator?)");
   EXPECT_FALSE(fs::exists(bad));
   // The head in metres: fit wrote a 10-triangle "fit" with exit 0; now one line names the file.
@@ -88,7 +88,7 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
   for (auto v : in_metres.vertices()) in_metres.point(v) = CGAL::ORIGIN + (in_metres.point(v) - CGAL::ORIGIN) * 1e-3;
   const std::string metres = (dir / "metres.ply").string();
   pipeline::write_surface_mesh(metres, in_metres);
-  EXPECT_EQ(WEXITSTATUS(std::system((fit + " --in " + metres + " --out " + bad + " 2>" + err).c_str())), 2);
+  EXPECT_EQ(run_command(fit + " --in " + metres + " --out " + bad + " 2>" + err), 2);
   const std::string line = last_line_of(err);
   EXPECT_EQ(line.rfind("fit: " + metres + ": largest extent 0.2", 0), 0u) << line;
   EXPECT_NE(line.find("but a head is about 250 mm: this stage reads mm only"), std::string::npos) << line;

@@ -7,12 +7,11 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "../niosh_medium_ply.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -24,9 +23,7 @@ const fs::path dir = scratch_dir();
 
 int run(const std::string& args) {
   fs::create_directories(dir);
-  const std::string cmd = std::string(BIN_DIR) + "/landmarks " + args + " 2> " + (dir / "err.txt").string();
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  return run_command(std::string(BIN_DIR) + "/landmarks " + args + " 2> " + (dir / "err.txt").string());
 }
 
 // stderr lines other than the options line run_main prints first.

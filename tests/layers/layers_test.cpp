@@ -25,6 +25,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace {
@@ -206,7 +207,7 @@ TEST(layers_cli, missing_input_exits_2_without_output) {
   std::filesystem::remove(out);
   const std::string cmd = std::string(BIN_DIR) + "/layers --in /nonexistent.msh --materials " + kMaterials +
                           " --out " + out + " 2>/dev/null";
-  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 2);
+  EXPECT_EQ(run_command(cmd), 2);
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
@@ -216,7 +217,7 @@ TEST(layers_cli, out_not_ending_in_msh_is_a_usage_error_naming_it) {
   const std::string out = (scratch_dir() / "layers.txt").string(), log = (scratch_dir() / "ext_log.txt").string();
   const std::string cmd = std::string(BIN_DIR) + "/layers --in /nonexistent.msh --materials " + kMaterials +
                           " --out " + out + " 2> " + log;
-  EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 1);
+  EXPECT_EQ(run_command(cmd), 1);
   std::ifstream in(log);
   std::string first_error;
   for (std::string line; std::getline(in, line) && first_error.empty();)
@@ -247,7 +248,7 @@ TEST(layers_cli, empty_truncated_or_nan_msh_exits_2_with_one_line_naming_it) {
     const std::string out = (dir / (name + ".layers.msh")).string(), log = (dir / "log.txt").string();
     const std::string cmd = std::string(BIN_DIR) + "/layers --in " + (dir / name).string() + " --materials " +
                             kMaterials + " --out " + out + " > /dev/null 2> " + log;
-    EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 2) << name;
+    EXPECT_EQ(run_command(cmd), 2) << name;
     std::ifstream in(log);
     std::string line, last;
     int lines = 0;

@@ -1,13 +1,12 @@
 // tests/scratch_dir.h, seen from outside the program that uses it: its folder is gone after a run
 // whose tests passed and is kept, with its path on stderr, after a run where one failed.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <string>
 
+#include "../file_text.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -19,18 +18,12 @@ struct ProbeRun {
   std::string folder, err;
 };
 
-std::string text_of(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 ProbeRun run_probe(const std::string& env) {
   const fs::path out = scratch_dir() / "probe.out", err = scratch_dir() / "probe.err";
-  const int rc = std::system((env + " " + BIN_DIR + "/scratch_dir_probe > " + out.string() + " 2> " + err.string()).c_str());
   ProbeRun r;
-  r.code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  r.err = text_of(err);
-  const std::string o = text_of(out);
+  r.code = run_command(env + " " + BIN_DIR + "/scratch_dir_probe > " + out.string() + " 2> " + err.string());
+  r.err = file_text(err);
+  const std::string o = file_text(out);
   const auto at = o.find("scratch ");
   if (at != std::string::npos) r.folder = o.substr(at + 8, o.find('\n', at) - at - 8);
   return r;

@@ -18,8 +18,6 @@
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "data/generator/head_model.h"
 #include "data/generator/respirator_model.h"
@@ -28,6 +26,8 @@
 #include "meshing/surface_mesh.h"
 #include "scan2cad/align.h"
 #include "scan2cad/fit.h"
+#include "../file_text.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -237,10 +237,9 @@ namespace {
 // Runs one stage program of BIN_DIR; returns its exit code, stderr in *err.
 int run_stage(const std::string& args, std::string* err) {
   const std::string log = (dir / "stage_stderr.txt").string();
-  const int rc = std::system((std::string(BIN_DIR) + "/" + args + " >/dev/null 2>" + log).c_str());
-  std::ifstream in(log);
-  err->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return WEXITSTATUS(rc);
+  const int code = run_command(std::string(BIN_DIR) + "/" + args + " >/dev/null 2>" + log);
+  *err = file_text(log);
+  return code;
 }
 
 }  // namespace

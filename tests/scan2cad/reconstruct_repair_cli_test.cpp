@@ -1,16 +1,12 @@
 // CLI tests of the reconstruct and repair programs: bad inputs (one clear line, non-zero exit,
 // no output), units, and the real NIOSH medium STL through repair.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
@@ -18,7 +14,9 @@
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/reconstruct.h"
+#include "../file_text.h"
 #include "../last_line.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -39,18 +37,8 @@ struct CliRun {
 CliRun run(const std::string& args, const std::string& env = "") {
   fs::create_directories(dir);
   const std::string err_path = (dir / "stderr.txt").string();
-  const int st =
-      std::system((env + " " + std::string(BIN_DIR) + "/" + args + " 2> " + err_path + " > /dev/null").c_str());
-  std::ifstream in(err_path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, ss.str()};
-}
-
-
-std::string bytes_of(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const int code = run_command(env + " " + std::string(BIN_DIR) + "/" + args + " 2> " + err_path + " > /dev/null");
+  return {code, file_text(err_path)};
 }
 
 // A bad input: exit code 2 (bad input), the last stderr line is one "program: file: problem"
@@ -119,17 +107,17 @@ TEST(reconstruct_cli, truncated_binary_ply_is_rejected) {
   const std::string full = (dir / "full.ply").string();
   fs::create_directories(dir);
   pipeline::write_point_cloud(full, niosh_cloud(1.0));
-  const std::string b = bytes_of(full);
+  const std::string b = file_text(full);
   expect_rejected("reconstruct", scratch_file("cut.ply", b.substr(0, b.size() / 2)), "truncated");
 }
 
 TEST(reconstruct_cli, truncated_binary_stl_is_rejected) {
-  const std::string b = bytes_of(niosh_medium);
+  const std::string b = file_text(niosh_medium);
   expect_rejected("reconstruct", scratch_file("cut.stl", b.substr(0, b.size() / 2)), "truncated binary STL: its header declares");
 }
 
 TEST(repair_cli, truncated_binary_stl_is_rejected) {
-  const std::string b = bytes_of(niosh_medium);
+  const std::string b = file_text(niosh_medium);
   expect_rejected("repair", scratch_file("cut_r.stl", b.substr(0, b.size() / 3)), "truncated binary STL: its header declares");
 }
 
@@ -210,7 +198,7 @@ TEST(reconstruct_cli, a_mesh_passes_through_unchanged) {
     ASSERT_EQ(run("reconstruct --in " + niosh_medium + " --kind head --out " + named).code, 0) << ext;
     EXPECT_EQ(pipeline::read_scan(named, {pipeline::Unit::mm}).soup.polygons.size(), a.soup.polygons.size()) << ext;
   }
-  EXPECT_EQ(bytes_of((dir / "pass.off").string()).substr(0, 3), "OFF");
+  EXPECT_EQ(file_text((dir / "pass.off").string()).substr(0, 3), "OFF");
 }
 
 TEST(repair_cli, niosh_medium_stl_comes_out_closed_manifold_and_clean) {
@@ -218,7 +206,7 @@ TEST(repair_cli, niosh_medium_stl_comes_out_closed_manifold_and_clean) {
   fs::remove(out);
   const CliRun r = run("repair --in " + niosh_medium + " --kind head --edge 2 --out " + out + " --report " + report);
   ASSERT_EQ(r.code, 0) << r.err;
-  const auto j = nlohmann::json::parse(bytes_of(report));
+  const auto j = nlohmann::json::parse(file_text(report));
   EXPECT_EQ(j["closed"], true);
   EXPECT_EQ(j["manifold"], true);
   EXPECT_EQ(j["self_intersecting_after"], false);
@@ -249,7 +237,7 @@ void expect_same_bytes_under_other_heaps(const std::string& scan, const std::str
     fs::remove(out);
     const CliRun r = run("reconstruct --in " + scan + " --kind " + kind + " --out " + out, env);
     ASSERT_EQ(r.code, 0) << r.err;
-    const std::string bytes = bytes_of(out);
+    const std::string bytes = file_text(out);
     ASSERT_GT(bytes.size(), 100000u);
     if (first.empty()) first = bytes;
     EXPECT_TRUE(bytes == first) << "another mesh than without tunables";
@@ -283,26 +271,23 @@ TEST(plot_slice_script, draws_the_niosh_lip_and_rejects_a_missing_mesh) {
   const std::string script = std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/scripts/plot_slice.py";
   const std::string png = (dir / "lip.png").string(), out = (dir / "plot_slice.txt").string();
   const std::string args = " --axis x --at 1.0 --window -172 -150 -125 -103 --out " + png + " ";
-  int st = std::system((script + args + niosh_medium + " > " + out + " 2>&1").c_str());
-  ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << bytes_of(out);
-  EXPECT_NE(bytes_of(out).find("NIOSH_medium_20k.stl: "), std::string::npos) << bytes_of(out);
-  EXPECT_EQ(bytes_of(out).find(": 0 inside the window"), std::string::npos) << bytes_of(out);
-  const std::string bytes = bytes_of(png);
+  ASSERT_EQ(run_command(script + args + niosh_medium + " > " + out + " 2>&1"), 0) << file_text(out);
+  EXPECT_NE(file_text(out).find("NIOSH_medium_20k.stl: "), std::string::npos) << file_text(out);
+  EXPECT_EQ(file_text(out).find(": 0 inside the window"), std::string::npos) << file_text(out);
+  const std::string bytes = file_text(png);
   ASSERT_GT(bytes.size(), 8u);
   EXPECT_EQ(bytes.substr(1, 3), "PNG");
   fs::remove(png);
-  st = std::system((script + args + (dir / "nope.stl").string() + " > " + out + " 2>&1").c_str());
-  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) != 0);
-  const std::string err = bytes_of(out);
+  EXPECT_GT(run_command(script + args + (dir / "nope.stl").string() + " > " + out + " 2>&1"), 0);
+  const std::string err = file_text(out);
   EXPECT_NE(err.find("nope.stl"), std::string::npos) << err;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   EXPECT_FALSE(fs::exists(png));
   // meshio 5.0 prints two lines and calls sys.exit on a text file named .ply; still one line.
   const std::string text = (dir / "text.ply").string();
   std::ofstream(text) << "this is not a mesh\n";
-  st = std::system((script + args + text + " > " + out + " 2>&1").c_str());
-  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) != 0);
-  const std::string text_err = bytes_of(out);
+  EXPECT_GT(run_command(script + args + text + " > " + out + " 2>&1"), 0);
+  const std::string text_err = file_text(out);
   EXPECT_NE(text_err.find("plot_slice: " + text + ": cannot read"), std::string::npos) << text_err;
   EXPECT_EQ(std::count(text_err.begin(), text_err.end(), '\n'), 1) << text_err;
   EXPECT_FALSE(fs::exists(png));

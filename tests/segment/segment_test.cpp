@@ -14,15 +14,15 @@
 #include <string>
 #include <utility>
 #include <vector>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "../niosh_medium_ply.h"
+#include "../file_text.h"
 #include "../last_line.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -37,10 +37,7 @@ std::string niosh_medium_ply() {
   return path;
 }
 
-int run(const std::string& args) {
-  const int rc = std::system((std::string(BIN_DIR) + "/segment " + args + " 2>/dev/null").c_str());
-  return WEXITSTATUS(rc);
-}
+int run(const std::string& args) { return run_command(std::string(BIN_DIR) + "/segment " + args + " 2>/dev/null"); }
 
 }  // namespace
 
@@ -92,8 +89,7 @@ TEST(segment_cli, writes_labelled_ply_and_rejects_bad_input) {
 TEST(segment_cli, a_head_given_as_a_respirator_is_rejected_naming_the_file) {
   const std::string ply = niosh_medium_ply();
   const std::string dir = fs::path(ply).parent_path(), out = dir + "/head_as_respirator.ply", err = dir + "/err.txt";
-  const int rc = std::system((std::string(BIN_DIR) + "/segment --in " + ply + " --kind respirator --out " + out + " 2> " + err).c_str());
-  EXPECT_EQ(WEXITSTATUS(rc), 2);
+  EXPECT_EQ(run_command(std::string(BIN_DIR) + "/segment --in " + ply + " --kind respirator --out " + out + " 2> " + err), 2);
   const std::string last = last_line_of(err);
   EXPECT_EQ(last.rfind("segment: " + ply + ": respirator: its two sheets are 152 mm apart", 0), 0u) << last;
   EXPECT_FALSE(fs::exists(out));
@@ -151,11 +147,6 @@ void write_file(const fs::path& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
 
-std::string bytes_of(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 struct ScriptRun {
   int code;
   std::string output;  // stdout and stderr
@@ -165,8 +156,7 @@ ScriptRun render_parts(const fs::path& in, const fs::path& png) {
   const fs::path log = png.string() + ".log";
   const std::string cmd = std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/layering/render_parts.py " +
                           in.string() + " " + png.string() + " cube > " + log.string() + " 2>&1";
-  const int st = std::system(cmd.c_str());
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, bytes_of(log)};
+  return {run_command(cmd), file_text(log)};
 }
 
 }  // namespace
@@ -187,10 +177,10 @@ TEST(render_parts_script, ascii_and_binary_give_the_same_png_and_bad_files_give_
   EXPECT_NE(a.output.find("8 vertices, 12 faces, parts [0, 1, 2, 3, 4]"), std::string::npos) << a.output;
   const ScriptRun b = render_parts(dir / "binary.ply", dir / "binary.png");
   ASSERT_EQ(b.code, 0) << b.output;
-  const std::string png = bytes_of(dir / "ascii.png");
+  const std::string png = file_text(dir / "ascii.png");
   ASSERT_GT(png.size(), 8u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
-  EXPECT_EQ(png, bytes_of(dir / "binary.png"));
+  EXPECT_EQ(png, file_text(dir / "binary.png"));
 
   LabelledCube out_of_range = cube;
   out_of_range.faces[5][1] = 8;

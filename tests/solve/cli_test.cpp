@@ -1,18 +1,17 @@
 // The `solve` program end to end: a good run writes every output; bad inputs give one error line,
 // a non-zero exit and no results file; a restart continues; the meshio converter reads the results.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "solve/load_model.h"
 #include "solve/make_block.h"
 #include "solve/write_results.h"
+#include "../file_text.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace {
@@ -31,16 +30,10 @@ struct CliCase {
     solve::write_mesh_msh(solve::make_block(b, {"skin", 1.2e-3, 0.6, 0.45, false}), dir + "/block.msh");
   }
   void write(const std::string& name, const std::string& text) const { std::ofstream(dir + "/" + name) << text; }
-  std::string read(const std::string& name) const {
-    std::ifstream in(dir + "/" + name);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
+  std::string read(const std::string& name) const { return file_text(dir + "/" + name); }
   // Runs a command; returns its exit code; stderr in dir/err.txt.
   int sh(const std::string& cmd) const {
-    const int rc = std::system((cmd + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    return run_command(cmd + " > " + dir + "/out.txt 2> " + dir + "/err.txt");
   }
   int solve(const std::string& deck, const std::string& out, const std::string& extra = "") const {
     return sh(std::string(BIN_DIR) + "/solve --model " + dir + "/block.msh --deck " + dir + "/" + deck +

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <set>
 #include <string>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "layering/internal/segment_landmarks.h"
@@ -21,6 +20,7 @@
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
 #include "scan2cad/repair.h"
+#include "../run_command.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -91,12 +91,12 @@ TEST(surface_mesh_cli, writes_msh_meshio_reads_and_fails_cleanly) {
   const std::string fitted = (dir / "fitted.ply").string(), out = (dir / "surface.msh").string();
   pipeline::write_surface_mesh(fitted, fitted_medium());
   const std::string bin = std::string(BIN_DIR) + "/surface_mesh --in " + fitted + " --out ";
-  ASSERT_EQ(WEXITSTATUS(std::system((bin + out + " 2>/dev/null").c_str())), 0);
+  ASSERT_EQ(run_command(bin + out + " 2>/dev/null"), 0);
   const std::string check = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + out +
                             "'); assert set(m.cell_sets) >= {'forehead','left_cheek','right_cheek','chin','back_of_head'}\"";
   EXPECT_EQ(std::system(check.c_str()), 0);
   // An unreachable quality threshold is an algorithm failure: exit 3, no file.
   const std::string bad = (dir / "bad.msh").string();
-  EXPECT_EQ(WEXITSTATUS(std::system((bin + bad + " --min-gamma 0.99 2>/dev/null").c_str())), 3);
+  EXPECT_EQ(run_command(bin + bad + " --min-gamma 0.99 2>/dev/null"), 3);
   EXPECT_FALSE(fs::exists(bad));
 }
