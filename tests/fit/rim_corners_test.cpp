@@ -16,7 +16,7 @@ namespace {
 using pipeline::Point;
 using pipeline::SurfaceMesh;
 
-constexpr int columns = 61, rows = 41;  // 1 mm grid: a 60 x 40 mm sheet
+constexpr int sheet_columns = 61, sheet_rows = 41;  // 1 mm grid: a 60 x 40 mm sheet
 constexpr int step_column = 31;         // rim vertices from this column on are raised by step_mm
 constexpr double step_mm = 0.6;         // and the first of them is moved back to x = 30.3: the
 constexpr double step_x_mm = 30.3;      // step (30, 0)-(30.3, 0.6) is 0.67 mm long, turns +-63 deg
@@ -30,17 +30,17 @@ SurfaceMesh sheet(bool step, bool chamfer) {
   SurfaceMesh mesh;
   auto part = mesh.add_property_map<pipeline::FaceIndex, int>(pipeline::part_property, 0).first;
   std::vector<pipeline::VertexIndex> v;
-  for (int j = 0; j < rows; ++j)
-    for (int i = 0; i < columns; ++i) {
+  for (int j = 0; j < sheet_rows; ++j)
+    for (int i = 0; i < sheet_columns; ++i) {
       double y = j;
       double x = i;
       if (step && j == 0 && i >= step_column) y = step_mm;
       if (step && j == 0 && i == step_column) x = step_x_mm;
       v.push_back(mesh.add_vertex(Point(x, y, 0)));
     }
-  auto at = [&](int i, int j) { return v[std::size_t(j * columns + i)]; };
-  for (int j = 0; j + 1 < rows; ++j)
-    for (int i = 0; i + 1 < columns; ++i) {
+  auto at = [&](int i, int j) { return v[std::size_t(j * sheet_columns + i)]; };
+  for (int j = 0; j + 1 < sheet_rows; ++j)
+    for (int i = 0; i + 1 < sheet_columns; ++i) {
       if (chamfer && i == 0 && j == 0) {  // only the upper-left half of the corner cell
         part[mesh.add_face(at(1, 0), at(1, 1), at(0, 1))] = 0;
         continue;
