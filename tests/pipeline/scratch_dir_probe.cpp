@@ -1,4 +1,4 @@
-// Not a test of its own: the program scratch_dir_test runs to watch tests/scratch_dir.h from the
+// Not a test of its own: the program the tests of scratch_dir_test.cpp run to watch tests/scratch_dir.h from the
 // outside (its folder is removed or kept when the program exits). It writes a file into its
 // scratch folder, prints the folder's path, and fails when PROBE_FAIL is set.
 #include <gtest/gtest.h>
