@@ -24,6 +24,7 @@
 #include "layering/layers.h"
 #include "layering/segment.h"
 #include "meshing/surface_mesh.h"
+#include "pipeline/gmsh_session.h"
 #include "scan2cad/align.h"
 #include "scan2cad/fit.h"
 #include "../file_text.h"
@@ -143,12 +144,13 @@ TEST_P(GeneratedCup, align_segment_fit_surface_mesh_layers) {
   // surface_mesh (the CLI's default size), written as msh and read back by meshio.
   fs::create_directories(dir);
   const std::string msh = (dir / (id + "_surface.msh")).string();
-  gmsh::initialize();
-  gmsh::option::setNumber("General.Terminal", 0);
-  const auto parts = meshing::surface_mesh(fitted, "respirator", meshing::default_size_mm, 0.0);
-  gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-  gmsh::write(msh);
-  gmsh::finalize();
+  std::vector<meshing::SurfaceMeshPart> parts;
+  {
+    const pipeline::GmshSession gmsh_session;
+    parts = meshing::surface_mesh(fitted, "respirator", meshing::default_size_mm, 0.0);
+    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+    gmsh::write(msh);
+  }
   ASSERT_EQ(parts.size(), 1u);
   EXPECT_EQ(parts[0].name, "respirator_inner");
   EXPECT_GE(parts[0].min_gamma, 0.3);

@@ -25,6 +25,7 @@
 #include "layering/segment.h"
 #include "meshing/surface_mesh.h"
 #include "pipeline/atomic_write.h"
+#include "pipeline/gmsh_session.h"
 #include "scan2cad/align.h"
 #include "scan2cad/fit.h"
 #include "scan2cad/landmarks.h"
@@ -98,33 +99,33 @@ TEST_P(GeneratedHead, aligned_segmented_fitted_and_meshed_within_the_requirement
   }
 
   // 5. Surface mesh at the CLI defaults (6.4 mm face, 7 mm back); the written file opens in gmsh and meshio.
-  gmsh::initialize();
-  gmsh::option::setNumber("General.Terminal", 0);
   std::size_t face_triangles = 0, triangles = 0;
-  try {
-    const auto parts = meshing::surface_mesh(fitted, "head", meshing::default_size_mm, meshing::default_back_size_mm, 0.0);
-    EXPECT_EQ(parts.size(), 5u);
-    for (const auto& p : parts) {
-      SCOPED_TRACE(p.name);
-      std::printf("%s: mesh %-12s %5zu triangles gamma min %.3f mean %.3f\n", id.c_str(), p.name.c_str(), p.triangles,
-                  p.min_gamma, p.mean_gamma);
-      EXPECT_GE(p.min_gamma, 0.3);
-      triangles += p.triangles;
-      if (p.name != "back_of_head") face_triangles += p.triangles;
-    }
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << e.what();
-  }
-  std::printf("%s: %zu triangles, %zu on the face parts\n", id.c_str(), triangles, face_triangles);
   const std::string msh = (dir / (id + ".msh")).string();
-  gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-  gmsh::write(msh);
-  gmsh::clear();
-  gmsh::open(msh);
-  std::vector<std::size_t> tags, nodes;
-  gmsh::model::mesh::getElementsByType(2, tags, nodes);
-  EXPECT_EQ(tags.size(), triangles);
-  gmsh::finalize();
+  {
+    const pipeline::GmshSession gmsh_session;
+    try {
+      const auto parts = meshing::surface_mesh(fitted, "head", meshing::default_size_mm, meshing::default_back_size_mm, 0.0);
+      EXPECT_EQ(parts.size(), 5u);
+      for (const auto& p : parts) {
+        SCOPED_TRACE(p.name);
+        std::printf("%s: mesh %-12s %5zu triangles gamma min %.3f mean %.3f\n", id.c_str(), p.name.c_str(), p.triangles,
+                    p.min_gamma, p.mean_gamma);
+        EXPECT_GE(p.min_gamma, 0.3);
+        triangles += p.triangles;
+        if (p.name != "back_of_head") face_triangles += p.triangles;
+      }
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << e.what();
+    }
+    std::printf("%s: %zu triangles, %zu on the face parts\n", id.c_str(), triangles, face_triangles);
+    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+    gmsh::write(msh);
+    gmsh::clear();
+    gmsh::open(msh);
+    std::vector<std::size_t> tags, nodes;
+    gmsh::model::mesh::getElementsByType(2, tags, nodes);
+    EXPECT_EQ(tags.size(), triangles);
+  }
   const std::string check = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + msh +
                             "'); assert sum(len(c.data) for c in m.cells if c.type == 'triangle') == " +
                             std::to_string(triangles) + "\"";
