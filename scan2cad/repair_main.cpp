@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   cli.option("-o", "--out", &out, "output mesh (.ply .off .obj .stl)", pipeline::required);
   cli.option("-r", "--report", &report_path, "JSON report of the changes (optional)");
   kind_unit.add_to(cli, "head (closed output) or respirator (rim kept open)");
-  cli.option("-e", "--edge", &opt.target_edge_mm, "target edge length [mm], 0 = no remeshing", 0.0, 50.0);
+  cli.option("-e", "--edge", &opt.target_edge_mm, "target edge length [mm], 0 = no remeshing (at most 10 million triangles)", 0.0, 50.0);
   cli.option("-n", "--remesh-iterations", &opt.remesh_iterations, "isotropic remeshing iterations", 1, 20);
   cli.option("-s", "--smooth", &opt.smoothing_iterations, "mean-curvature-flow smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &opt.smoothing_time, "smoothing time step (CGAL smooth_shape)", 1e-9, 1.0);

@@ -170,6 +170,25 @@ TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   EXPECT_NE(forced.err.find(in + ": unit in (forced): largest extent 285.7 mm"), std::string::npos) << forced.err;
 }
 
+// An edge far below the head's scale: the remeshing ran until killed (--edge 0.001 on a head asks
+// for ~1e11 triangles). Now a usage error before any work, naming the file and the count; 0.05 mm
+// (~8e7) is refused too, the default 1.5 mm and 0 (no remeshing) are not checked against it.
+TEST(repair_cli, an_edge_too_short_for_the_surface_is_a_usage_error) {
+  const std::string out = (dir / "tiny_edge.ply").string();
+  for (const char* edge : {"0.001", "0.05"}) {
+    SCOPED_TRACE(edge);
+    const CliRun r = run("repair --in " + niosh_medium + " --kind head --edge " + edge + " --out " + out);
+    EXPECT_EQ(r.code, 1) << r.err;
+    // the error line, then the usage hint every usage error ends with
+    EXPECT_EQ(last_line(r.err), "repair: run 'repair --help' for usage");
+    const std::string before_hint = r.err.substr(0, r.err.rfind("repair: run"));
+    const std::string line = last_line(before_hint);
+    EXPECT_EQ(line.rfind("repair: " + niosh_medium + ": --edge " + edge + " mm would make ~", 0), 0u) << line;
+    EXPECT_NE(line.find("more than 10 million: choose a longer edge"), std::string::npos) << line;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 // A report that cannot be written (its path is a folder) fails the stage with exit 4 and takes
 // the repaired mesh with it, so Make does not see a new mesh from a failed run.
 TEST(repair_cli, an_unwritable_report_leaves_no_mesh) {
