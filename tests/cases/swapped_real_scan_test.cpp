@@ -31,8 +31,8 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
 
   const fs::path mm = scratch_dir() / "niosh_large_mm.xyz", metres = scratch_dir() / "niosh_large_m.xyz";
   ASSERT_EQ(run_command(std::string(BIN_DIR) + "/generate_scan --from-mesh " SHARED_DATA_DIR "/headforms/NIOSH_large_20k.stl" +
-                  " --points 80000 --noise-mm 0.2 --outlier-fraction 0.005 --holes 2 --seed 5 --out " + mm.string() +
-                  " 2> /dev/null"),
+                        " --points 80000 --noise-mm 0.2 --outlier-fraction 0.005 --holes 2 --seed 5 --out " +
+                        mm.string() + " 2> /dev/null"),
             0);
   {
     std::ifstream in(mm);
@@ -43,8 +43,9 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
   }
 
   const fs::path log = scratch_dir() / "make.log";
-  const int rc = run_command("make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases case=large_onesize HEADFORM_SCAN=" +
-                       metres.string() + " BUILD=" + build.string() + " > " + log.string() + " 2>&1");
+  const int rc = run_command("make --no-print-directory -C " SOURCE_DIR
+                             " -f Makefile.cases case=large_onesize HEADFORM_SCAN=" +
+                             metres.string() + " BUILD=" + build.string() + " > " + log.string() + " 2>&1");
   const std::string text = pipeline::read_text(log.string());
   ASSERT_EQ(rc, 0) << text.substr(text.size() > 4000 ? text.size() - 4000 : 0);
 
