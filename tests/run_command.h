@@ -2,8 +2,10 @@
 //
 //   run_command(command)   runs `command` with /bin/sh (redirections and environment assignments
 //                          included) and returns its exit status: 0 on success, the stage's code
-//                          otherwise; a program killed by a signal gives 128 + the signal (the
-//                          shell's report), and -1 means the shell itself could not run or was killed.
+//                          otherwise; a program killed by a signal gives 128 + the signal as dash
+//                          reports it (a shell that execs the command instead gives -1: the
+//                          signal reaches std::system), and -1 when the shell itself could not run.
+//                          Either way a crash is non-zero.
 #pragma once
 
 #include <sys/wait.h>

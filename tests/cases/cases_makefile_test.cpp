@@ -5,7 +5,6 @@
 // stage program re-runs exactly its stage and those after it; a failed stage leaves no output;
 // nothing runs twice.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>

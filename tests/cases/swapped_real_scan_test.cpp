@@ -8,7 +8,6 @@
 // About 75 s of CPU on this machine (fit of the 235,000-triangle head: 24 s, reconstruct: 17 s).
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>

@@ -2,10 +2,8 @@
 // medium headform segmented with the landmarks fixture of tests/segment.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"

@@ -2,10 +2,8 @@
 // file, malformed user file) gives exit 2, one error line naming the file, and no output.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>

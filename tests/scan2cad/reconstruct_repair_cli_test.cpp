@@ -33,7 +33,8 @@ struct CliRun {
   std::string err;
 };
 
-// `env`: variable assignments put before the command (e.g. "GLIBC_TUNABLES=...")
+// `env`: put before the command: variable assignments (e.g. "GLIBC_TUNABLES=...") or a wrapper
+// ("timeout 60")
 CliRun run(const std::string& args, const std::string& env = "") {
   fs::create_directories(dir);
   const std::string err_path = (dir / "stderr.txt").string();
@@ -170,14 +171,15 @@ TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   EXPECT_NE(forced.err.find(in + ": unit in (forced): largest extent 285.7 mm"), std::string::npos) << forced.err;
 }
 
-// An edge far below the head's scale: the remeshing ran until killed (--edge 0.001 on a head asks
-// for ~1e11 triangles). Now a usage error before any work, naming the file and the count; 0.05 mm
-// (~8e7) is refused too, the default 1.5 mm and 0 (no remeshing) are not checked against it.
+// An edge far below the head's scale: the remeshing ran until killed (--edge 0.001 on NIOSH
+// medium asks for ~4e11 triangles). Now a usage error before any work, naming the file and the
+// count; 0.05 mm (~1.6e8) is refused too, the default 1.5 mm (~1.7e5) passes. Run under
+// `timeout 60`, so a regression fails here instead of at ctest's timeout.
 TEST(repair_cli, an_edge_too_short_for_the_surface_is_a_usage_error) {
   const std::string out = (dir / "tiny_edge.ply").string();
   for (const char* edge : {"0.001", "0.05"}) {
     SCOPED_TRACE(edge);
-    const CliRun r = run("repair --in " + niosh_medium + " --kind head --edge " + edge + " --out " + out);
+    const CliRun r = run("repair --in " + niosh_medium + " --kind head --edge " + edge + " --out " + out, "timeout 60");
     EXPECT_EQ(r.code, 1) << r.err;
     // the error line, then the usage hint every usage error ends with
     EXPECT_EQ(last_line(r.err), "repair: run 'repair --help' for usage");

@@ -14,7 +14,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 #include "../align/align_helpers.h"
 #include "../layers/check_head_layers.h"

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <set>
 #include <string>
-#include <unistd.h>
 
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"
