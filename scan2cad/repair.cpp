@@ -72,8 +72,9 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   r.degenerate_faces_removed = f0 > mesh.number_of_faces() ? f0 - mesh.number_of_faces() : 0;
   if (mesh.number_of_faces() == 0) throw pipeline::bad_input("mesh", "no usable faces after removing degenerate ones");
   // An edge far below the surface's scale asks for more triangles than memory holds, and the
-  // remeshing ran until killed (--edge 0.001 on NIOSH medium, 167,890 mm2: ~4e11). Checked before any work, on the
-  // input's area (the hole fills add little); an equilateral triangle of edge e covers sqrt(3)/4 e².
+  // remeshing ran until killed (--edge 0.001 on NIOSH medium, 167,890 mm²: ~4e11). Checked before
+  // any work, on the input's area (the hole fills add little); an equilateral triangle of edge e
+  // covers sqrt(3)/4 e².
   if (opt.target_edge_mm > 0) {
     const double area_mm2 = PMP::area(mesh);
     const double triangles = area_mm2 / (std::sqrt(3.0) / 4.0 * opt.target_edge_mm * opt.target_edge_mm);

@@ -30,8 +30,8 @@
 
 namespace scan2cad {
 
-/// The most triangles the remeshing may make: ~50 times a head at the default 1.5 mm edge
-/// (a 180,000 mm² head: 190,000), several GB and minutes of remeshing.
+/// The most triangles the remeshing may make: ~60 times a head at the default 1.5 mm edge
+/// (NIOSH medium, 167,890 mm²: ~170,000), several GB and minutes of remeshing.
 constexpr double max_remeshed_triangles = 1e7;
 
 struct RepairOptions {

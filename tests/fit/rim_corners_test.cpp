@@ -17,9 +17,9 @@ using pipeline::Point;
 using pipeline::SurfaceMesh;
 
 constexpr int sheet_columns = 61, sheet_rows = 41;  // 1 mm grid: a 60 x 40 mm sheet
-constexpr int step_column = 31;         // rim vertices from this column on are raised by step_mm
-constexpr double step_mm = 0.6;         // and the first of them is moved back to x = 30.3: the
-constexpr double step_x_mm = 30.3;      // step (30, 0)-(30.3, 0.6) is 0.67 mm long, turns +-63 deg
+constexpr int step_column = 31;     // rim vertices from this column on are raised by step_mm
+constexpr double step_mm = 0.6;     // and the first of them is moved back to x = 30.3: the
+constexpr double step_x_mm = 30.3;  // step (30, 0)-(30.3, 0.6) is 0.67 mm long, turns +-63 deg
 // (CGAL 5.5's relaxation inside isotropic_remeshing smooths a rim vertex that turns by less than
 // 60 deg whatever the vertex constraints say, so a gentler step would vanish anyway.)
 
