@@ -4,9 +4,10 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <string>
+
+#include "file_text.h"
 
 /// Writes <dir>/medium.ply (dir created if needed) with /usr/bin/python3 + meshio.
 /// @return the path
@@ -19,9 +20,7 @@ inline std::string niosh_medium_ply(const std::filesystem::path& dir) {
                           "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + path +
                           "', meshio.Mesh(m.points.astype(float), m.cells), binary=False)\" 2>" + log;
   if (std::system(cmd.c_str()) != 0) {
-    std::ifstream in(log);
-    throw std::runtime_error("converting NIOSH_medium_20k.stl to " + path + " failed: " +
-                             std::string(std::istreambuf_iterator<char>(in), {}));
+    throw std::runtime_error("converting NIOSH_medium_20k.stl to " + path + " failed: " + file_text(log));
   }
   return path;
 }

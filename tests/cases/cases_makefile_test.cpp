@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../file_text.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
 
@@ -68,8 +69,7 @@ class CasesMake : public ::testing::Test {
   std::string log_text(const std::vector<std::string>& ran) {
     std::ostringstream s;
     for (const auto& l : ran) s << l << "\n";
-    std::ifstream out(build_ / "make.out");
-    s << "--- make:\n" << out.rdbuf();
+    s << "--- make:\n" << file_text(build_ / "make.out");
     return s.str();
   }
   fs::path build_;

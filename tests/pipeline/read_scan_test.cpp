@@ -3,12 +3,12 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
+#include "../file_text.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -64,16 +64,14 @@ TEST(read_scan, bad_files_give_bad_input_naming_the_file) {
 
 TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
   const std::string stl = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
-  std::ifstream in(stl, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = file_text(stl);
   EXPECT_EQ(error_kind_of(scratch_file("cut.stl", bytes.substr(0, bytes.size() / 2))), pipeline::ErrorKind::bad_input);
 
   pipeline::PointCloud c;
   for (int i = 0; i < 1000; ++i) c.points.emplace_back(i * 0.2, (i % 10) * 20.0, (i % 7) * 30.0);
   const std::string ply = (scratch_dir() / "full.ply").string();
   pipeline::write_point_cloud(ply, c);
-  std::ifstream pin(ply, std::ios::binary);
-  std::string pbytes((std::istreambuf_iterator<char>(pin)), std::istreambuf_iterator<char>());
+  const std::string pbytes = file_text(ply);
   EXPECT_EQ(error_kind_of(scratch_file("cut.ply", pbytes.substr(0, pbytes.size() / 2))), pipeline::ErrorKind::bad_input);
 }
 
@@ -91,10 +89,7 @@ TEST(write_point_cloud, upper_case_endings_are_the_formats_of_their_lower_case) 
     const pipeline::Scan back = pipeline::read_scan(path, {pipeline::Unit::mm});
     EXPECT_EQ(back.cloud.points.size(), c.points.size());
   }
-  std::ifstream ply((scratch_dir() / "upper.PLY").string(), std::ios::binary);
-  std::string magic(3, '\0');
-  ply.read(&magic[0], 3);
-  EXPECT_EQ(magic, "ply");
+  EXPECT_EQ(file_text(scratch_dir() / "upper.PLY").substr(0, 3), "ply");
 }
 
 // CGAL's text readers stop at "nan" as at a truncation; the error says which it was.
