@@ -154,8 +154,12 @@ int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) 
     std::fprintf(stderr, "%s: options: %s\n", prog.c_str(), cli.resolved().c_str());
     return body();
   } catch (const Error& e) {
-    std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.what());
-    if (e.kind == ErrorKind::usage) std::fprintf(stderr, "%s: run '%s --help' for usage\n", prog.c_str(), prog.c_str());
+    // One line, also for a usage error: its pointer to --help goes at the end of the error line
+    // rather than on a line of its own, so every failure is exactly one line on stderr.
+    if (e.kind == ErrorKind::usage)
+      std::fprintf(stderr, "%s: %s (see '%s --help')\n", prog.c_str(), e.what(), prog.c_str());
+    else
+      std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.what());
     return int(e.kind);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: internal error: %s\n", prog.c_str(), e.what());

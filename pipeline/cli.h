@@ -68,7 +68,8 @@ void require_extension(const std::string& option, const std::string& path, const
 
 /// Parses the command line, runs `body` and maps exceptions to exit codes:
 /// usage 1, bad input 2, algorithm 3, I/O 4 (pipeline::Error kinds); other exceptions 3.
-/// Each error is one line on stderr: "program: message".
+/// Each error is one line on stderr: "program: message", and for a usage error
+/// "program: message (see 'program --help')".
 int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body);
 
 }  // namespace pipeline
