@@ -102,7 +102,7 @@ bool Cli::parse(int argc, char** argv) {
       inline_value = true;
     }
     Opt* o = find(arg);
-    if (!o) throw Error(ErrorKind::usage, "unknown option '" + arg + "' (see --help)");
+    if (!o) throw Error(ErrorKind::usage, "unknown option '" + arg + "'");
     if (!o->is_flag && !inline_value) {
       if (i + 1 >= argc) throw Error(ErrorKind::usage, arg + ": missing value");
       value = argv[++i];
@@ -112,7 +112,7 @@ bool Cli::parse(int argc, char** argv) {
   }
   for (const auto& o : opts_)
     if (o.is_required && !o.seen)
-      throw Error(ErrorKind::usage, "missing required option " + o.long_flag + " (see --help)");
+      throw Error(ErrorKind::usage, "missing required option " + o.long_flag);
   return true;
 }
 

@@ -68,6 +68,27 @@ TEST(cli, run_main_maps_error_kinds_to_exit_codes) {
   EXPECT_EQ(pipeline::run_main(cli, help.argc(), help.argv(), [] { return 7; }), 0);
 }
 
+// Every failure is one stderr line; a usage error's ends with the pointer to --help (it was a
+// second line, and the parser's own messages said "(see --help)" on top of it).
+TEST(cli, run_main_prints_one_line_per_usage_error) {
+  std::string in;
+  pipeline::Cli cli("prog", "test");
+  cli.option("-i", "--in", &in, "input", pipeline::required);
+  const auto stderr_of = [&](std::vector<std::string> args, int expected_exit) {
+    Args a(std::move(args));
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), [] { return 0; }), expected_exit);
+    return testing::internal::GetCapturedStderr();
+  };
+  EXPECT_EQ(stderr_of({"prog", "-i", "a", "--bogus"}, 1), "prog: unknown option '--bogus' (see 'prog --help')\n");
+  EXPECT_EQ(stderr_of({"prog"}, 1), "prog: missing required option --in (see 'prog --help')\n");
+  // an error of another kind has no pointer (the options line comes first: the parse succeeded)
+  Args a({"prog", "-i", "a"});
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::bad_input("a", "empty"); }), 2);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "prog: options: in=a\nprog: a: empty\n");
+}
+
 // An output path's ending is checked before any work: the gmsh writers of surface_mesh, layers,
 // straps and assemble failed after it with "Unknown output file format", naming no file.
 TEST(require_extension, accepts_the_listed_endings_in_any_case_and_names_the_rest) {
