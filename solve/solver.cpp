@@ -27,7 +27,9 @@ struct Solver::Impl {
   std::vector<ContactPair> pairs;
   double time = 0, dt = 0, dt_stable = 0, added = 0;
   long step = 0;
-  Energies en;
+  Energies en;  // as of the last step that computed them (request_energy), kinetic of every step
+  // Works of the steps done so far: contact (absorbed, ≤ 0 here), damping, external [mJ].
+  double w_contact = 0, w_damping = 0, w_external = 0;
   double e_initial = 0;
   bool e_initial_set = false;
 
@@ -199,24 +201,34 @@ void Solver::step() {
   s.en.time = t;
   s.en.kinetic = ke;
   if (want_energy_) {
-    // Energies at t_n: the works are centred (f_n · (x_{n+1} − x_{n−1})/2), so half of this step's
-    // increment belongs before t_n.
+    // Energies at t_n. The works are centred (f_n · (x_{n+1} − x_{n−1})/2), so half of this
+    // step's increment belongs before t_n; except on the first step of a run from its initial
+    // state, the balance's reference: nothing moved before t_0, so no work is done before it and
+    // the kinetic energy is that of the initial velocities, v_{−½}. (Centred there too, with the
+    // kinetic energy at the mean of v_{−½} and v_{½}, it is the same to O(dt) when the motion
+    // starts smoothly; but a velocity that jumps at t_0, a prescribed curve starting at a
+    // non-zero slope or a constant-velocity condition, left the reference off by m·Δv²/8 for
+    // good, and solve stopped the assembled medium_onesize model as diverged at step 3 when
+    // checked at every step.)
+    const bool from_start = s.step == 0 && !s.e_initial_set;
+    const double before = from_start ? 0.0 : 0.5;
+    if (from_start) {
+      double ke0 = 0;
+      for (std::size_t k = 0; k < 3 * n; ++k) ke0 += 0.5 * s.mass[k / 3] * v_old[k] * v_old[k];
+      s.en.kinetic = ke0;
+    }
     s.en.internal = e_int_n;
-    s.en.contact -= 0.5 * wc;
-    s.en.damping += 0.5 * wd;
-    s.en.external += 0.5 * we;
+    s.en.contact = s.w_contact - before * wc;
+    s.en.damping = s.w_damping + before * wd;
+    s.en.external = s.w_external + before * we;
     const double total = s.en.kinetic + s.en.internal + s.en.contact + s.en.damping - s.en.external;
     if (!s.e_initial_set) { s.e_initial = total; s.e_initial_set = true; }
     s.en.balance = total - s.e_initial;
-    s.en.contact -= 0.5 * wc;
-    s.en.damping += 0.5 * wd;
-    s.en.external += 0.5 * we;
     want_energy_ = false;
-  } else {
-    s.en.contact -= wc;
-    s.en.damping += wd;
-    s.en.external += we;
   }
+  s.w_contact -= wc;
+  s.w_damping += wd;
+  s.w_external += we;
   s.time += dt;
   s.step++;
   // 4. Health and the periodic update of the stable step.
@@ -326,9 +338,9 @@ SolverState Solver::state() const {
   st.x = s.x;
   st.v = s.v;
   st.rigid = internal::rigid_velocities(s.con);
-  st.e_contact = s.en.contact;
-  st.e_damping = s.en.damping;
-  st.w_external = s.en.external;
+  st.e_contact = s.w_contact;
+  st.e_damping = s.w_damping;
+  st.w_external = s.w_external;
   st.e_initial = s.e_initial;
   st.e_initial_set = s.e_initial_set;
   for (const auto& c : s.pairs) st.contact_history.push_back(c.history());
@@ -362,9 +374,9 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
     s.time = st.time;
     s.step = st.step;
     if (st.dt > 0) s.dt = st.dt;
-    s.en.contact = st.e_contact;
-    s.en.damping = st.e_damping;
-    s.en.external = st.w_external;
+    s.w_contact = st.e_contact;
+    s.w_damping = st.e_damping;
+    s.w_external = st.w_external;
     s.e_initial = st.e_initial;
     s.e_initial_set = st.e_initial_set;
   } else {

@@ -25,7 +25,9 @@ namespace solve {
 /// Energies at the start of the last step [N·mm = mJ].
 struct Energies {
   double time = 0;
-  double kinetic = 0;   ///< ½ m |v_n|², v_n the mean of the two half-step velocities
+  /// ½ m |v_n|², v_n the mean of the two half-step velocities (at the first step of a run from
+  /// its initial state: the initial velocities, v_{−½}, so a velocity jump at t_0 is not averaged)
+  double kinetic = 0;
   double internal = 0;  ///< strain + hourglass energy (only when requested, see request_energy)
   double contact = 0;   ///< work absorbed by contact forces (penalty springs + contact damping)
   double damping = 0;   ///< work dissipated by mass-proportional damping
