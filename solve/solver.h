@@ -25,14 +25,16 @@ namespace solve {
 /// Energies at the start of the last step [N·mm = mJ].
 struct Energies {
   double time = 0;
-  /// ½ m |v_n|², v_n the mean of the two half-step velocities (at the first step of a run from
-  /// its initial state: the initial velocities, v_{−½}, so a velocity jump at t_0 is not averaged)
+  /// the mean of the two half-step kinetic energies, ½(½m v_{n−½}² + ½m v_{n+½}²) (every step)
   double kinetic = 0;
   double internal = 0;  ///< strain + hourglass energy (only when requested, see request_energy)
+  // The works up to t_n, like internal only on a step that requested energies (request_energy):
   double contact = 0;   ///< work absorbed by contact forces (penalty springs + contact damping)
   double damping = 0;   ///< work dissipated by mass-proportional damping
   double external = 0;  ///< work of loads and of reaction forces of prescribed / fixed dofs
-  /// kinetic + internal + contact + damping − external − (its initial value); ≈ 0 when healthy
+  /// kinetic + internal + contact + damping − external − ¼·dt·f_int·(v_{n+½} − v_{n−½}) − (its
+  /// initial value). The scheme's own O(dt²) term makes it exact for a linear elastic body under
+  /// any loads and jumps; ≈ 0 when healthy (solver.cpp)
   double balance = 0;
 };
 

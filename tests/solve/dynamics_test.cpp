@@ -118,7 +118,9 @@ TEST(wave_speed, compression_pulse_travels_at_bar_speed) {
 // Undamped free vibration of a cantilevered irregular wedge block, all modes excited by random
 // initial velocities: kinetic + internal energy stays within 1 % of its start over 1000 periods
 // of the fundamental mode (central differences are symplectic: the energy error oscillates at
-// O((ωΔt)²) and does not drift).
+// O((ωΔt)²) and does not drift; measured 0.4 %). The balance, which adds the scheme's own
+// O(dt²) term, is the scheme's invariant for a linear body, so only the small strains'
+// nonlinearity is left in it: within 1e-3 (measured 3.2e-5; 2.0e-3 without that term).
 TEST(energy, undamped_free_vibration_conserves_energy_1000_periods) {
   solve::BlockSpec b;
   b.type = ElementType::wedge6;
@@ -143,7 +145,7 @@ TEST(energy, undamped_free_vibration_conserves_energy_1000_periods) {
   s.set_state(st);
   // count periods by sign changes of the tip x displacement
   const int tip = int(m.n_nodes()) - 1;
-  double last = 0, e0 = -1, worst = 0;
+  double last = 0, e0 = -1, worst = 0, worst_balance = 0;
   int crossings = 0;
   long k = 0;
   while (crossings < 2000 + 2) {
@@ -155,13 +157,15 @@ TEST(energy, undamped_free_vibration_conserves_energy_1000_periods) {
       const double e = s.energies().kinetic + s.energies().internal;
       if (e0 < 0) e0 = e;
       worst = std::max(worst, std::fabs(e - e0) / e0);
+      worst_balance = std::max(worst_balance, std::fabs(s.energies().balance) / e0);
     }
     const double u = s.x()[3 * tip] - st.X[3 * tip];
     if (u * last < 0) ++crossings;
     if (u != 0) last = u;
   }
   EXPECT_LT(worst, 0.01);
-  std::printf("energy test: %ld steps, max relative energy error %.3g\n", k, worst);
+  EXPECT_LT(worst_balance, 1e-3);
+  std::printf("energy test: %ld steps, max relative energy error %.3g, balance error %.3g\n", k, worst, worst_balance);
   RecordProperty("energy_error_max", std::to_string(worst));
 }
 
@@ -215,15 +219,10 @@ TEST(solver, results_independent_of_thread_count) {
   EXPECT_NEAR(a.internal_energy(), b.internal_energy(), 1e-12 * a.internal_energy());
 }
 
-// A velocity that jumps at t = 0 (a constant prescribed velocity on the top face, undamped) is a
-// sound run, and the energy balance checked at every step from the first must say so: below
-// solve's default guard, 5 % of the largest energy so far. Until the balance took the run's
-// initial state as its reference, the first step's centred split left it off by m·v²/8 for good:
-// 0.178 of the largest energy here (2.4e-5 mJ, constant), and solve stopped the assembled
-// medium_onesize model as diverged at step 3. Measured now: 0.025 at step 2, the integrator's own
-// error at an impulsive start (the nodes below the top face start one step later), and a constant
-// ~2e-6 mJ after, 1e-5 of the energy at the end.
-TEST(energy, velocity_jump_at_the_start_keeps_the_balance) {
+namespace {
+
+// A soft block (3 × 3 × 4 mm, irregular wedges), its bottom fixed, undamped.
+solve::Model fixed_soft_block() {
   solve::BlockSpec b;
   b.type = ElementType::wedge6;
   b.nx = 3; b.ny = 3; b.nz = 4;
@@ -231,22 +230,63 @@ TEST(energy, velocity_jump_at_the_start_keeps_the_balance) {
   b.jitter = 0.2;
   solve::Model m = solve::make_block(b, {"soft", 1e-3, 0.6, 0.45, false});
   for (int d = 0; d < 3; ++d) m.bcs.push_back({"zmin", d, solve::BcKind::fixed, {}});
-  m.bcs.push_back({"zmax", 2, solve::BcKind::velocity, solve::Curve::constant(-0.2)});
   m.control.damping_alpha = 0;
-  solve::Solver s(m);
+  return m;
+}
+
+// Runs `steps` steps with the energy balance checked at each, as solve's guard does with a
+// history interval of one step; the worst |balance| / largest energy so far.
+double worst_balance_every_step(solve::Solver& s, int steps, const char* what) {
   double emax = 0, worst = 0;
-  for (int k = 0; k < 300; ++k) {
+  for (int k = 0; k < steps; ++k) {
     s.request_energy();
     s.step();
-    ASSERT_TRUE(s.health().empty()) << s.health();
+    EXPECT_TRUE(s.health().empty()) << s.health();
     const solve::Energies& e = s.energies();
     emax = std::max({emax, e.kinetic + e.internal, std::fabs(e.external)});
     if (emax > 0) worst = std::max(worst, std::fabs(e.balance) / emax);
   }
-  std::printf("velocity jump: %ld steps, largest energy %.3g mJ, worst balance %.3g of it\n", s.steps(), emax, worst);
+  std::printf("%s: %d steps, largest energy %.3g mJ, worst balance %.3g of it\n", what, steps, emax, worst);
   EXPECT_GT(emax, 0);
-  EXPECT_LT(worst, 0.05);
-  EXPECT_LT(std::fabs(s.energies().balance), 1e-4 * emax);  // was 1.5e-4
+  return worst;
+}
+
+}  // namespace
+
+// Starts that are not smooth are sound runs, and the energy balance checked at every step from
+// the first must say so. The bound, 1e-3 of the largest energy so far, is 50x below solve's
+// default guard (5 %). The balance includes the central-difference scheme's own term
+// (solver.cpp), with which it is exact for a linear elastic body, so what is left is the
+// nonlinear part. Measured: velocity jump 1.3e-4, load jump 6.9e-6, restart from a moving state
+// 1.3e-6. With the kinetic energy at the mean velocity and no such term, as until 2026-12-05:
+// 0.178 (m·v²/8 off for good; solve stopped the assembled medium_onesize model as diverged at
+// step 3), 5.7e-3 and 5.9e-4. Taking t_0 as uncentred instead (tried and reviewed the same day)
+// fixed the first but gave 0.091 for the load jump and a first-order error after the restart.
+TEST(energy, balance_holds_through_velocity_and_load_jumps_and_a_moving_restart) {
+  {
+    solve::Model m = fixed_soft_block();
+    m.bcs.push_back({"zmax", 2, solve::BcKind::velocity, solve::Curve::constant(-0.2)});
+    solve::Solver s(m);
+    EXPECT_LT(worst_balance_every_step(s, 300, "velocity jump at t = 0"), 1e-3);
+  }
+  {
+    solve::Model m = fixed_soft_block();
+    m.loads.push_back({"zmax", 0, solve::Curve::constant(0.02)});
+    solve::Solver s(m);
+    EXPECT_LT(worst_balance_every_step(s, 300, "load jump at t = 0"), 1e-3);
+  }
+  {
+    // a later stage started from a moving state (reset_time, velocities kept)
+    solve::Model m = fixed_soft_block();
+    m.loads.push_back({"zmax", 0, solve::Curve::constant(0.02)});
+    solve::Solver first(m);
+    for (int k = 0; k < 40; ++k) first.step();
+    solve::Model later = fixed_soft_block();
+    later.loads.push_back({"zmax", 1, solve::Curve::constant(0.02)});
+    solve::Solver s(later);
+    s.set_state(first.state(), true, false);
+    EXPECT_LT(worst_balance_every_step(s, 300, "restart from a moving state"), 1e-3);
+  }
 }
 
 // Stability guard: crushing a block at 100 mm/ms inverts elements within a few steps; the run
