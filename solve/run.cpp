@@ -26,7 +26,7 @@ std::string fmt(double v) {
 
 std::string energy_row(const Energies& e) {
   return fmt(e.time) + "," + fmt(e.kinetic) + "," + fmt(e.internal) + "," + fmt(e.contact) + "," + fmt(e.damping) +
-         "," + fmt(e.external) + "," + fmt(e.balance) + "\n";
+         "," + fmt(e.external) + "," + fmt(e.scheme) + "," + fmt(e.balance) + "\n";
 }
 
 void write_frame(std::ostream& out, const Model& m, const Solver& s, int index) {
@@ -83,7 +83,8 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   const std::string frames_path = (dir / ".results.frames.tmp").string();
   std::ofstream frames;
   if (opt.write_results) frames.open(frames_path);
-  std::string energy_csv = "time_ms,kinetic_mJ,internal_mJ,contact_mJ,damping_mJ,external_work_mJ,balance_error_mJ\n";
+  std::string energy_csv = "time_ms,kinetic_mJ,internal_mJ,contact_mJ,damping_mJ,external_work_mJ,scheme_term_mJ,"
+                           "balance_error_mJ\n";
   std::string forces_csv = "time_ms";
   for (const auto& cp : m.contacts) forces_csv += "," + cp.name + "_Fx," + cp.name + "_Fy," + cp.name + "_Fz";
   for (const auto& g : m.output.history_groups)

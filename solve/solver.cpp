@@ -207,20 +207,23 @@ void Solver::step() {
     // Energies at t_n: the works are centred (f_n · (x_{n+1} − x_{n−1})/2, half of this step's
     // increment before t_n) and the kinetic energy is the mean of the two half-step ones. The
     // balance adds the central-difference scheme's own term −¼·dt·f_int,n·Δv_n (Δv = v_{n+½} −
-    // v_{n−½}), O(dt²) while the motion is smooth: with it the update conserves the sum exactly
-    // for a linear elastic body, whatever the loads, reactions, contact and damping do, jumps
-    // included (for free vibration it is ½ v_{n−½}·M·v_{n+½} + U, the scheme's invariant), so
-    // the balance error measures the nonlinear and unstable part alone. The kinetic energy at
-    // the mean velocity without that term, as until 2026-12-05, was off by m·Δv²/8 at a
-    // velocity jump: a prescribed curve starting at a non-zero slope left the balance off by
-    // that for good, and solve stopped the medium_onesize stage-1 run as diverged at step 3
-    // when it was checked at every step.
+    // v_{n−½}), O(dt²) while the motion is smooth. With it, the works of loads, reactions,
+    // contact and damping cancel the kinetic energy's change exactly, whatever they do, jumps
+    // included; what is left is the trapezoid rule's error on the strain energy, zero for a
+    // quadratic one (small strains) at a constant step, so the balance error measures the
+    // nonlinear response and the step changes (for free vibration the sum is
+    // ½ v_{n−½}·M·v_{n+½} + U, the scheme's invariant). The kinetic energy at the mean velocity
+    // without that term, as until 2026-12-05, was off by m·Δv²/8 at a velocity jump: a
+    // prescribed curve starting at a non-zero slope left the balance off by that for good, and
+    // solve stopped the medium_onesize stage-1 run as diverged at step 3 when it was checked at
+    // every step.
     s.en.internal = e_int_n;
     s.en.contact = s.w_contact - 0.5 * wc;
     s.en.damping = s.w_damping + 0.5 * wd;
     s.en.external = s.w_external + 0.5 * we;
-    const double total = s.en.kinetic + s.en.internal + s.en.contact + s.en.damping - s.en.external -
-                         0.25 * dt * fint_dv;
+    s.en.scheme = -0.25 * dt * fint_dv;
+    const double total =
+        s.en.kinetic + s.en.internal + s.en.contact + s.en.damping - s.en.external + s.en.scheme;
     if (!s.e_initial_set) { s.e_initial = total; s.e_initial_set = true; }
     s.en.balance = total - s.e_initial;
     want_energy_ = false;

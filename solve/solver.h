@@ -22,19 +22,21 @@
 
 namespace solve {
 
-/// Energies at the start of the last step [N·mm = mJ].
+/// Energies at the start of the last step [N·mm = mJ]: time and kinetic of every step, the others
+/// (the works up to t_n among them) of the last step that requested them (request_energy).
 struct Energies {
   double time = 0;
   /// the mean of the two half-step kinetic energies, ½(½m v_{n−½}² + ½m v_{n+½}²) (every step)
   double kinetic = 0;
   double internal = 0;  ///< strain + hourglass energy (only when requested, see request_energy)
-  // The works up to t_n, like internal only on a step that requested energies (request_energy):
   double contact = 0;   ///< work absorbed by contact forces (penalty springs + contact damping)
   double damping = 0;   ///< work dissipated by mass-proportional damping
   double external = 0;  ///< work of loads and of reaction forces of prescribed / fixed dofs
-  /// kinetic + internal + contact + damping − external − ¼·dt·f_int·(v_{n+½} − v_{n−½}) − (its
-  /// initial value). The scheme's own O(dt²) term makes it exact for a linear elastic body under
-  /// any loads and jumps; ≈ 0 when healthy (solver.cpp)
+  /// the central-difference scheme's own term −¼·dt·f_int·(v_{n+½} − v_{n−½}), O(dt²) while the
+  /// motion is smooth (solver.cpp)
+  double scheme = 0;
+  /// kinetic + internal + contact + damping − external + scheme − (its initial value): conserved
+  /// exactly, jumps included, for a quadratic strain energy at a constant step; ≈ 0 when healthy
   double balance = 0;
 };
 

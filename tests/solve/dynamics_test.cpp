@@ -119,8 +119,10 @@ TEST(wave_speed, compression_pulse_travels_at_bar_speed) {
 // initial velocities: kinetic + internal energy stays within 1 % of its start over 1000 periods
 // of the fundamental mode (central differences are symplectic: the energy error oscillates at
 // O((ωΔt)²) and does not drift; measured 0.4 %). The balance, which adds the scheme's own
-// O(dt²) term, is the scheme's invariant for a linear body, so only the small strains'
-// nonlinearity is left in it: within 1e-3 (measured 3.2e-5; 2.0e-3 without that term).
+// O(dt²) term, is the scheme's invariant for a quadratic strain energy at a constant step, so
+// what is left in it is the step updates (every 100 steps) and the small strains'
+// nonlinearity: within 2e-4 (measured 3.2e-5, 2.6e-6 of it without step updates; 2.0e-3 as
+// the balance was until 2026-12-05).
 TEST(energy, undamped_free_vibration_conserves_energy_1000_periods) {
   solve::BlockSpec b;
   b.type = ElementType::wedge6;
@@ -164,7 +166,7 @@ TEST(energy, undamped_free_vibration_conserves_energy_1000_periods) {
     if (u != 0) last = u;
   }
   EXPECT_LT(worst, 0.01);
-  EXPECT_LT(worst_balance, 1e-3);
+  EXPECT_LT(worst_balance, 2e-4);
   std::printf("energy test: %ld steps, max relative energy error %.3g, balance error %.3g\n", k, worst, worst_balance);
   RecordProperty("energy_error_max", std::to_string(worst));
 }
@@ -246,7 +248,8 @@ double worst_balance_every_step(solve::Solver& s, int steps, const char* what) {
     emax = std::max({emax, e.kinetic + e.internal, std::fabs(e.external)});
     if (emax > 0) worst = std::max(worst, std::fabs(e.balance) / emax);
   }
-  std::printf("%s: %d steps, largest energy %.3g mJ, worst balance %.3g of it\n", what, steps, emax, worst);
+  std::printf("%s: %d steps to t = %.3g ms, largest energy %.3g mJ, worst balance %.3g of it\n", what, steps,
+              s.time(), emax, worst);
   EXPECT_GT(emax, 0);
   return worst;
 }
@@ -254,10 +257,11 @@ double worst_balance_every_step(solve::Solver& s, int steps, const char* what) {
 }  // namespace
 
 // Starts that are not smooth are sound runs, and the energy balance checked at every step from
-// the first must say so. The bound, 1e-3 of the largest energy so far, is 50x below solve's
-// default guard (5 %). The balance includes the central-difference scheme's own term
-// (solver.cpp), with which it is exact for a linear elastic body, so what is left is the
-// nonlinear part. Measured: velocity jump 1.3e-4, load jump 6.9e-6, restart from a moving state
+// the first must say so, far below solve's default guard (5 % of the largest energy so far). The
+// balance includes the central-difference scheme's own term (solver.cpp), with which it is
+// exact for a quadratic strain energy at a constant step, so what is left is the nonlinear
+// response (the velocity jump compresses the block by 11 %) and the step updates. Bounds 1e-3,
+// 1e-4 and 1e-4; measured: velocity jump 1.3e-4, load jump 6.9e-6, restart from a moving state
 // 1.3e-6. With the kinetic energy at the mean velocity and no such term, as until 2026-12-05:
 // 0.178 (m·v²/8 off for good; solve stopped the assembled medium_onesize model as diverged at
 // step 3), 5.7e-3 and 5.9e-4. Taking t_0 as uncentred instead (tried and reviewed the same day)
@@ -273,7 +277,7 @@ TEST(energy, balance_holds_through_velocity_and_load_jumps_and_a_moving_restart)
     solve::Model m = fixed_soft_block();
     m.loads.push_back({"zmax", 0, solve::Curve::constant(0.02)});
     solve::Solver s(m);
-    EXPECT_LT(worst_balance_every_step(s, 300, "load jump at t = 0"), 1e-3);
+    EXPECT_LT(worst_balance_every_step(s, 300, "load jump at t = 0"), 1e-4);
   }
   {
     // a later stage started from a moving state (reset_time, velocities kept)
@@ -285,7 +289,7 @@ TEST(energy, balance_holds_through_velocity_and_load_jumps_and_a_moving_restart)
     later.loads.push_back({"zmax", 1, solve::Curve::constant(0.02)});
     solve::Solver s(later);
     s.set_state(first.state(), true, false);
-    EXPECT_LT(worst_balance_every_step(s, 300, "restart from a moving state"), 1e-3);
+    EXPECT_LT(worst_balance_every_step(s, 300, "restart from a moving state"), 1e-4);
   }
 }
 
