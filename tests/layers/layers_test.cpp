@@ -222,7 +222,7 @@ TEST(layers_cli, out_not_ending_in_msh_is_a_usage_error_naming_it) {
   std::string first_error;
   for (std::string line; std::getline(in, line) && first_error.empty();)
     if (line.find("options:") == std::string::npos) first_error = line;
-  EXPECT_EQ(first_error, "layers: --out: '" + out + "' must end in .msh");
+  EXPECT_EQ(first_error, "layers: --out: '" + out + "' must end in .msh (see 'layers --help')");
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
