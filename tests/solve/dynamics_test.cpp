@@ -28,18 +28,22 @@ std::string temp_dir(const std::string& name) {
   return p.string();
 }
 
+// A soft block of nx × ny × nz mm in 1 mm cells of irregular wedges, its bottom (zmin) fixed.
+solve::Model soft_block_fixed_below(int nx, int ny, int nz) {
+  solve::BlockSpec b;
+  b.type = ElementType::wedge6;
+  b.nx = nx; b.ny = ny; b.nz = nz;
+  b.size = {double(nx), double(ny), double(nz)};
+  b.jitter = 0.2;
+  solve::Model m = solve::make_block(b, {"soft", 1e-3, 0.6, 0.45, false});
+  for (int d = 0; d < 3; ++d) m.bcs.push_back({"zmin", d, solve::BcKind::fixed, {}});
+  return m;
+}
+
 // A small loaded, damped, partly constrained block exercising BCs, loads, damping and the
 // periodic dt update (every 7 steps).
 solve::Model busy_block() {
-  solve::BlockSpec b;
-  b.type = ElementType::wedge6;
-  b.nx = 4; b.ny = 3; b.nz = 3;
-  b.size = {4, 3, 3};
-  b.jitter = 0.2;
-  solve::Model m = solve::make_block(b, {"soft", 1e-3, 0.6, 0.45, false});
-  m.bcs.push_back({"zmin", 0, solve::BcKind::fixed, {}});
-  m.bcs.push_back({"zmin", 1, solve::BcKind::fixed, {}});
-  m.bcs.push_back({"zmin", 2, solve::BcKind::fixed, {}});
+  solve::Model m = soft_block_fixed_below(4, 3, 3);
   m.bcs.push_back({"zmax", 0, solve::BcKind::velocity, solve::Curve{{0, 0.5, 1}, {0, 0.3, 0}}});
   m.loads.push_back({"xmax", 2, solve::Curve{{0, 1}, {0, -0.02}}});
   m.control.damping_alpha = 0.2;
@@ -124,15 +128,7 @@ TEST(wave_speed, compression_pulse_travels_at_bar_speed) {
 // nonlinearity: within 2e-4 (measured 3.2e-5, 2.6e-6 of it without step updates; 2.0e-3 as
 // the balance was until 2026-12-05).
 TEST(energy, undamped_free_vibration_conserves_energy_1000_periods) {
-  solve::BlockSpec b;
-  b.type = ElementType::wedge6;
-  b.nx = 2; b.ny = 2; b.nz = 4;
-  b.size = {2, 2, 4};
-  b.jitter = 0.2;
-  solve::Model m = solve::make_block(b, {"soft", 1e-3, 0.6, 0.45, false});
-  m.bcs.push_back({"zmin", 0, solve::BcKind::fixed, {}});
-  m.bcs.push_back({"zmin", 1, solve::BcKind::fixed, {}});
-  m.bcs.push_back({"zmin", 2, solve::BcKind::fixed, {}});
+  solve::Model m = soft_block_fixed_below(2, 2, 4);
   m.control.end_time = 1e9;
   solve::Solver s(m);
   // initial velocity: bending in x growing with z, plus a little of everything
@@ -223,15 +219,9 @@ TEST(solver, results_independent_of_thread_count) {
 
 namespace {
 
-// A soft block (3 × 3 × 4 mm, irregular wedges), its bottom fixed, undamped.
+// A soft block (3 × 3 × 4 mm), its bottom fixed, undamped.
 solve::Model fixed_soft_block() {
-  solve::BlockSpec b;
-  b.type = ElementType::wedge6;
-  b.nx = 3; b.ny = 3; b.nz = 4;
-  b.size = {3, 3, 4};
-  b.jitter = 0.2;
-  solve::Model m = solve::make_block(b, {"soft", 1e-3, 0.6, 0.45, false});
-  for (int d = 0; d < 3; ++d) m.bcs.push_back({"zmin", d, solve::BcKind::fixed, {}});
+  solve::Model m = soft_block_fixed_below(3, 3, 4);
   m.control.damping_alpha = 0;
   return m;
 }
