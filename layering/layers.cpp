@@ -51,6 +51,10 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
     for (auto& [k, v] : stacks) names += (names.empty() ? "" : ", ") + k;
     throw pipeline::bad_input("surface", "no triangle group named after a layered part (" + names + ")");
   }
+  // A named group without elements (a file whose element section was lost) would be layered
+  // into nothing and written as an empty model.
+  for (const internal::PartTris& p : in.parts)
+    if (p.tris.empty()) throw pipeline::bad_input("surface", "part " + p.name + " has no triangles");
   // 2. Orientation, offset directions, the common depth partition.
   Columns c = internal::make_columns(in, opt);
   progress.step("directions (" + std::to_string(c.smoothing_passes) + " smoothing passes) and depth caps for " +

@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
     pipeline::require_mm(in, pipeline::largest_extent(surface.nodes), kind);
     // 3. Layers.
     layering::LayerReport rep;
-    const layering::FeModel model = layering::build_layers(surface, stacks, opt, &rep);
+    const layering::FeModel model =
+        pipeline::naming_file(in, [&] { return layering::build_layers(surface, stacks, opt, &rep); });
     // 4. Report text, then the model and the report, both or neither.
     nlohmann::json j = {{"wedges", rep.wedges}, {"shell_triangles", rep.shell_triangles}, {"nodes", rep.nodes},
                         {"min_scaled_jacobian", rep.min_scaled_jacobian}, {"min_volume_mm3", rep.min_volume},

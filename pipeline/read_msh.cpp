@@ -2,7 +2,9 @@
 #include "pipeline/read_msh.h"
 
 #include <cmath>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
@@ -66,6 +68,47 @@ MshFile read_open_model(const std::string& path) {
   return f;
 }
 
+// gmsh reads a file whose $Nodes section lost its $EndNodes without a word and skips to the
+// end, so the elements vanish and a stage wrote an empty model with exit 0. In an ASCII file
+// every section must close before the next opens; a binary file's sections hold raw bytes after
+// $MeshFormat, so only that one is looked at there.
+void check_sections_closed(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, open_section;
+  std::size_t line_no = 0, open_line = 0;
+  bool binary = false, format_seen = false;
+  while (!binary && std::getline(in, line)) {
+    ++line_no;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
+    if (line_no == 1 && line != "$MeshFormat") return;  // not a gmsh 2/4 file: gmsh's own reader decides
+    if (open_section == "MeshFormat" && !format_seen && !line.empty() && line[0] != '$') {
+      std::istringstream words(line);
+      double version = 0;
+      int file_type = 0;
+      words >> version >> file_type;
+      binary = file_type == 1;
+      format_seen = true;
+      continue;
+    }
+    if (line.empty() || line[0] != '$') continue;
+    const std::string name = line.substr(1);
+    if (open_section.empty()) {
+      if (name.rfind("End", 0) == 0)
+        throw bad_input(path, "line " + std::to_string(line_no) + ": " + line + " closes no open section");
+      open_section = name, open_line = line_no;
+    } else if (name == "End" + open_section) {
+      open_section.clear();
+    } else if (open_section != "Comments") {
+      throw bad_input(path, "section $" + open_section + " (line " + std::to_string(open_line) +
+                                ") is not closed by $End" + open_section + " before line " + std::to_string(line_no) +
+                                " (" + line + ")");
+    }
+  }
+  if (!binary && !open_section.empty())
+    throw bad_input(path, "section $" + open_section + " (line " + std::to_string(open_line) +
+                              ") is not closed by $End" + open_section + " (truncated file?)");
+}
+
 }  // namespace
 
 MshFile read_msh(const std::string& path) {
@@ -73,6 +116,7 @@ MshFile read_msh(const std::string& path) {
   GmshSession session;
   try {
     gmsh::open(path);
+    check_sections_closed(path);
     return read_open_model(path);
   } catch (const std::string& e) {  // the gmsh API throws its last error message as a string
     throw bad_input(path, "gmsh cannot read it: " + e);

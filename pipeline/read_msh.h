@@ -6,8 +6,9 @@
 ///         coordinates; every physical group in gmsh's order with its elements, one block per
 ///         entity and element type, as 0-based indices into the nodes.
 /// Throws pipeline::Error(bad_input) naming the file when it is missing, a directory, empty,
-/// unreadable by gmsh, without nodes, or has a node with a NaN or infinite coordinate or an
-/// element on a node it lacks. Whether groups must exist, be named or hold one element type is
+/// unreadable by gmsh, an ASCII file with a section not closed (gmsh skips the rest of the file
+/// silently), without nodes, or has a node with a NaN or infinite coordinate or an element on a
+/// node it lacks. Whether groups must exist, be named or hold one element type is
 /// the caller's rule.
 ///
 /// Shared by layering (read_fe_model) and solve (read_msh): gmsh reads every .msh version,

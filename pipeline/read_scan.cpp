@@ -41,6 +41,21 @@ void check_finite(const std::vector<Xyz>& xyz, const std::string& path, const ch
       throw bad_input(path, std::string(element) + " " + std::to_string(i) + " has a non-finite (NaN or infinite) " + what);
 }
 
+// A corrupted binary file can hold any index; a negative 32-bit one reads as a huge size_t,
+// so it is shown as the signed number the file holds.
+void check_face_indices(const std::vector<std::vector<std::size_t>>& polygons, std::size_t n_points,
+                        const std::string& path) {
+  for (std::size_t f = 0; f < polygons.size(); ++f)
+    for (std::size_t i : polygons[f])
+      if (i >= n_points) {
+        const std::string index = i > std::size_t(std::numeric_limits<std::int64_t>::max())
+                                      ? std::to_string(std::int64_t(i))
+                                      : std::to_string(i);
+        throw bad_input(path, "face " + std::to_string(f) + " refers to vertex " + index + " of " +
+                                  std::to_string(n_points));
+      }
+}
+
 std::string first_bytes(const std::string& path, std::size_t n) {
   std::ifstream in(path, std::ios::binary);
   std::string s(n, '\0');
@@ -257,9 +272,7 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   if (pts.empty()) throw bad_input(path, "no points in file");
   check_finite(pts, path, "vertex", "coordinate");
   check_finite(scan.cloud.normals, path, "point", "normal");
-  for (const auto& poly : scan.soup.polygons)
-    for (std::size_t i : poly)
-      if (i >= pts.size()) throw bad_input(path, "face refers to vertex " + std::to_string(i) + " of " + std::to_string(pts.size()));
+  check_face_indices(scan.soup.polygons, pts.size(), path);
 
   scan.unit = opt.unit == Unit::automatic ? detect_unit(largest_extent(pts), opt.expected_size_mm, path) : opt.unit;
   scale_points(pts, mm_per_unit(scan.unit));
@@ -270,31 +283,30 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
   require_file(path);
   SurfaceMesh mesh;
   const std::string ext = lower_extension(path);
-  bool ok = false;
   if (ext == ".ply") {
     if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
+    // Read as a soup first: CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and
+    // on a valid one whose faces do not form a 2-manifold, and it crashes on a face index past
+    // the vertices (a corrupted binary file); the soup tells the three apart safely.
+    {
+      std::ifstream in(path, std::ios::binary);
+      std::vector<Point> points;
+      std::vector<std::vector<std::size_t>> polygons;
+      if (!CGAL::IO::read_PLY(in, points, polygons)) throw bad_input(path, "unreadable or truncated PLY");
+      check_face_indices(polygons, points.size(), path);
+      if (!polygons.empty() && !PMP::is_polygon_soup_a_polygon_mesh(polygons))
+        throw bad_input(path, "not a 2-manifold polygon mesh (" + std::to_string(polygons.size()) +
+                                  " faces read; run repair first)");
+    }
     std::ifstream in(path, std::ios::binary);
     std::string comments;
-    ok = CGAL::IO::read_PLY(in, mesh, comments);
+    if (!CGAL::IO::read_PLY(in, mesh, comments)) throw bad_input(path, "unreadable or truncated PLY");
   } else {
     Scan scan = read_scan(path, ScanReadOptions{Unit::mm});
     if (!scan.is_mesh) throw bad_input(path, "is a point set, expected a mesh");
     if (!PMP::is_polygon_soup_a_polygon_mesh(scan.soup.polygons))
       throw bad_input(path, "not a 2-manifold polygon mesh (run repair first)");
     PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
-    ok = true;
-  }
-  if (!ok) {
-    // CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and on a valid one whose
-    // faces do not form a 2-manifold; reading it again as a soup tells the two apart.
-    std::ifstream in(path, std::ios::binary);
-    std::vector<Point> points;
-    std::vector<std::vector<std::size_t>> polygons;
-    if (CGAL::IO::read_PLY(in, points, polygons) && !polygons.empty() &&
-        !PMP::is_polygon_soup_a_polygon_mesh(polygons))
-      throw bad_input(path, "not a 2-manifold polygon mesh (" + std::to_string(polygons.size()) +
-                                " faces read; run repair first)");
-    throw bad_input(path, "unreadable or truncated PLY");
   }
   if (mesh.number_of_faces() == 0) throw bad_input(path, "mesh has no faces");
   for (auto v : mesh.vertices()) {

@@ -238,8 +238,18 @@ TEST(layers_cli, empty_truncated_or_nan_msh_exits_2_with_one_line_naming_it) {
       "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 1 1 0\n$EndEntities\n"
       "$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n10 nan 0\n0 10 0\n$EndNodes\n"
       "$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n";
+  // Nodes of a head's size (require_mm checks the extent) and no elements: gmsh also reads a
+  // $Nodes section without its $EndNodes this way, and layers wrote an empty model with exit 0.
+  const std::string head_sized_nodes_only =
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"forehead\"\n$EndPhysicalNames\n"
+      "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 1 1 0\n$EndEntities\n"
+      "$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n200 0 0\n0 200 0\n$EndNodes\n";
+  std::string without_end_nodes = triangle_with_nan_node;
+  without_end_nodes.erase(without_end_nodes.find("$EndNodes\n"), 10);
   const std::tuple<std::string, std::string, std::string> bad[] = {
       {"empty.msh", "", "file is empty"},
+      {"no_elements.msh", head_sized_nodes_only, "surface: part forehead has no triangles"},
+      {"no_end_nodes.msh", without_end_nodes, "section $Nodes (line 12) is not closed by $EndNodes"},
       {"truncated.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n", "gmsh cannot read it"},
       {"nan.msh", triangle_with_nan_node, "node 2 has a non-finite coordinate"},
   };

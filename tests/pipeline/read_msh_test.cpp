@@ -83,7 +83,17 @@ TEST(read_msh, bad_files_give_one_line_naming_the_file) {
   const std::string dangling_error = msh_error_of(dangling);
   EXPECT_NE(dangling_error.find(dangling + ": "), std::string::npos) << dangling_error;
   EXPECT_NE(dangling_error.find("99"), std::string::npos) << dangling_error;
-  for (const std::string& path : {empty, folder, header_only, truncated, nan, inf, dangling}) {
+  // gmsh reads a $Nodes section without its $EndNodes silently and skips to the end of the file:
+  // the elements were lost and layers wrote an empty model with exit 0.
+  std::string text = square_msh();
+  const std::string no_end_nodes = scratch_file("no_end_nodes.msh", text.erase(text.find("$EndNodes\n"), 10));
+  EXPECT_EQ(msh_error_of(no_end_nodes),
+            no_end_nodes + ": section $Nodes (line 13) is not closed by $EndNodes before line 24 ($Elements)");
+  text = square_msh();
+  const std::string no_end = scratch_file("no_end.msh", text.erase(text.find("$EndElements\n")));
+  EXPECT_EQ(msh_error_of(no_end),
+            no_end + ": section $Elements (line 25) is not closed by $EndElements (truncated file?)");
+  for (const std::string& path : {empty, folder, header_only, truncated, nan, inf, dangling, no_end_nodes, no_end}) {
     const std::string e = msh_error_of(path);
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
@@ -97,4 +107,13 @@ TEST(read_msh, leaves_the_openmp_thread_count_as_it_found_it) {
   pipeline::read_msh(path);
   EXPECT_EQ(omp_get_max_threads(), 3);
   omp_set_num_threads(before);
+}
+
+// The section check reads lines as gmsh does: a file saved with Windows line ends still reads.
+TEST(read_msh, reads_a_file_with_windows_line_ends) {
+  std::string crlf;
+  for (char c : square_msh()) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  const pipeline::MshFile f = pipeline::read_msh(scratch_file("square_crlf.msh", crlf));
+  EXPECT_EQ(f.n_nodes(), 4u);
+  EXPECT_EQ(f.groups.size(), 2u);
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 
 #include "pipeline/cli.h"
@@ -141,6 +142,22 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
   EXPECT_EQ(message_of(cut), cut + ": unreadable or truncated PLY");
   const std::string two = scratch_file("two.ply", header + points + "3 0 1 2\n3 1 0 3\n3 2 1 4\n");
   EXPECT_EQ(message_of(two), "no error");
+  // A face index past the vertices (a corrupted file) crashed CGAL's Surface_mesh reader, and so
+  // landmarks, segment, fit and surface_mesh. A negative index is shown as the file holds it.
+  const std::string past = scratch_file("past.ply", header + points + "3 0 1 2\n3 1 0 3\n3 2 1 9\n");
+  EXPECT_EQ(message_of(past), past + ": face 2 refers to vertex 9 of 5");
+  std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\n"
+                       "property float y\nproperty float z\nelement face 3\n"
+                       "property list uchar int vertex_indices\nend_header\n";
+  const float xyz[5][3] = {{0, 0, 0}, {100, 0, 0}, {50, 80, 0}, {50, -80, 0}, {50, 0, 80}};
+  binary.append(reinterpret_cast<const char*>(xyz), sizeof xyz);  // this test runs on little-endian x86
+  const std::int32_t faces[3][3] = {{0, 1, 2}, {1, -7, 3}, {2, 1, 4}};
+  for (const auto& f : faces) {
+    binary.push_back(char(3));
+    binary.append(reinterpret_cast<const char*>(f), sizeof f);
+  }
+  const std::string negative = scratch_file("negative.ply", binary);
+  EXPECT_EQ(message_of(negative), negative + ": face 1 refers to vertex -7 of 5");
 }
 
 // A NaN normal reached Poisson, which failed as an algorithm error ("normals inconsistent?").
