@@ -54,6 +54,12 @@ layering::FeModel assemble_model(const layering::FeModel& head, const layering::
                                  const layering::FeModel& straps, const std::map<std::string, Eigen::Vector3d>& lm,
                                  const PlaceOptions& opt, AssembleReport* report);
 
+/// The "materials" object of a solver deck from parsed data/materials.json: density, E, nu and
+/// rigid of each material whose name does not start with '_', checked as solve checks them
+/// (pipeline::why_material_unusable), so a unit slip stops at assemble, before any deck is written.
+/// @throws Error(bad_input) naming the entry: "materials.skin.E: expected a number".
+nlohmann::json deck_materials(const nlohmann::json& materials);
+
 /// Solver deck (solve/README.md) for stage 1 (strap wrapping, head and respirator fixed, strap ends
 /// pulled to the attachment points in 0–100 ms, held to 200 ms) or stage 2 (respirator released,
 /// straps tied to it, bone and back of head fixed, 0–150 ms, starts from stage 1's state).

@@ -14,6 +14,7 @@
 #include "meshing/assemble.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
+#include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_json.h"
 #include "pipeline/units.h"
@@ -46,12 +47,13 @@ int main(int argc, char** argv) {
     pipeline::require_mm(straps, pipeline::largest_extent(s.nodes), "head");  // straps span the head
     const auto lm = meshing::read_landmarks(landmarks);
     const auto mat = pipeline::read_json(materials);
+    pipeline::naming_file(materials, [&] { return meshing::deck_materials(mat); });  // before the placement's work
     // 2. Place and merge (checks the gap and that nothing intersects).
     meshing::AssembleReport rep;
     const auto model = meshing::assemble_model(h, r, s, lm, opt, &rep);
     // 3. Write model and decks.
-    const auto d1 = meshing::make_deck(model, mat, 1, strap_t, "");
-    const auto d2 = meshing::make_deck(model, mat, 2, strap_t, state1);
+    const auto d1 = pipeline::naming_file(materials, [&] { return meshing::make_deck(model, mat, 1, strap_t, ""); });
+    const auto d2 = pipeline::naming_file(materials, [&] { return meshing::make_deck(model, mat, 2, strap_t, state1); });
     pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
                                  {deck1, [&] { pipeline::write_text_atomic(deck1, d1.dump(2) + "\n"); }},
                                  {deck2, [&] { pipeline::write_text_atomic(deck2, d2.dump(2) + "\n"); }}});

@@ -83,4 +83,15 @@ void require_mm(const std::string& path, double extent_mm, const std::string& ki
   throw bad_input(path, ss.str());
 }
 
+std::string why_material_unusable(double density_g_mm3, double E_MPa, double nu) {
+  if (!(density_g_mm3 > 0)) return "density must be > 0";
+  if (!(density_g_mm3 >= min_density_g_mm3 && density_g_mm3 <= max_density_g_mm3))
+    return "density " + format_number(density_g_mm3) + " g/mm³ is outside [" + format_number(min_density_g_mm3) +
+           ", " + format_number(max_density_g_mm3) + "], the range of solids and foams: give it in g/mm³ " +
+           "(1 g/cm³ = 1e-3 g/mm³)";
+  if (!(E_MPa > 0) || !std::isfinite(E_MPa)) return "E must be > 0 and finite [MPa]";
+  if (!(nu >= 0 && nu < 0.5)) return "nu must be in [0, 0.5)";
+  return "";
+}
+
 }  // namespace pipeline

@@ -67,4 +67,15 @@ std::string describe_unit(Unit unit, bool detected, double extent_mm, const std:
 /// @throws Error(bad_input) naming `path` when the size is implausible in mm.
 void require_mm(const std::string& path, double extent_mm, const std::string& kind);
 
+/// Density bounds of the project's materials [g/mm³; units mm, ms, g, N, MPa]. A density given
+/// in g/cm³ (the paper's tables) or kg/m³ is 1e3 or 1e6 times too large, and a run with it is
+/// sound but wrong; every solid and foam lies within these.
+inline constexpr double min_density_g_mm3 = 1e-6;  // 1 kg/m³, lighter than any foam
+inline constexpr double max_density_g_mm3 = 0.1;   // 100 g/cm³, four times osmium
+
+/// Why a material cannot be used, or "" when it can: density within the bounds above, E > 0
+/// and finite [MPa], nu in [0, 0.5). Shared by assemble (data/materials.json) and solve (its
+/// deck), so a unit slip stops at the first stage that reads it.
+std::string why_material_unusable(double density_g_mm3, double E_MPa, double nu);
+
 }  // namespace pipeline

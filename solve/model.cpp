@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pipeline/error.h"
+#include "pipeline/units.h"
 
 namespace solve {
 
@@ -69,11 +70,9 @@ void check_model(const Model& m) {
   for (std::size_t i = 0; i < m.X.size(); ++i)
     if (!std::isfinite(m.X[i])) throw bad("node " + std::to_string(m.node_tag(i / 3)) + " has a non-finite coordinate");
   if (m.parts.empty()) throw bad("no parts: the deck assigns no material to any element group");
-  for (const auto& mat : m.materials) {
-    if (!(mat.density > 0)) throw bad("material '" + mat.name + "': density must be > 0");
-    if (!(mat.E > 0)) throw bad("material '" + mat.name + "': E must be > 0");
-    if (!(mat.nu >= 0 && mat.nu < 0.5)) throw bad("material '" + mat.name + "': nu must be in [0, 0.5)");
-  }
+  for (const auto& mat : m.materials)
+    if (const std::string why = pipeline::why_material_unusable(mat.density, mat.E, mat.nu); !why.empty())
+      throw bad("material '" + mat.name + "': " + why);
   std::vector<char> has_mass(n, 0);
   for (const auto& p : m.parts) {
     if (p.material < 0 || p.material >= int(m.materials.size()))

@@ -8,6 +8,7 @@
 #include "meshing/assemble.h"
 #include "meshing/internal/assemble_geometry.h"
 #include "pipeline/error.h"
+#include "pipeline/units.h"
 
 namespace meshing {
 
@@ -44,19 +45,52 @@ EndPath end_path(const internal::TriangleTree& skin, const Eigen::Vector3d& from
   return p;
 }
 
+// Stage I's mass-proportional damping [1/ms] from "damping": {"stage1_alpha_per_ms": ...}; 0.5
+// when the file gives none.
+double damping_alpha(const nlohmann::json& mat) {
+  if (!mat.contains("damping")) return 0.5;
+  const auto& d = mat["damping"];
+  if (!d.is_object()) throw pipeline::bad_input("damping", "expected an object");
+  if (!d.contains("stage1_alpha_per_ms")) return 0.5;
+  if (!d["stage1_alpha_per_ms"].is_number() || !(d["stage1_alpha_per_ms"].get<double>() >= 0) ||
+      !std::isfinite(d["stage1_alpha_per_ms"].get<double>()))
+    throw pipeline::bad_input("damping.stage1_alpha_per_ms", "expected a number >= 0 [1/ms]");
+  return d["stage1_alpha_per_ms"].get<double>();
+}
+
 }  // namespace
+
+// Before this check a bad value (E "x", nu 0.7, a density in g/cm³) went into the decks with
+// exit 0, and a missing one ended assemble as an internal error.
+nlohmann::json deck_materials(const nlohmann::json& mat) {
+  using nlohmann::json;
+  if (!mat.is_object() || !mat.contains("materials") || !mat["materials"].is_object())
+    throw pipeline::bad_input("materials", "expected an object of materials");
+  json out = json::object();
+  for (auto& [k, v] : mat["materials"].items()) {
+    if (k[0] == '_') continue;
+    const std::string w = "materials." + k;
+    if (!v.is_object()) throw pipeline::bad_input(w, "expected an object");
+    auto number = [&](const char* field) {
+      if (!v.contains(field) || !v[field].is_number()) throw pipeline::bad_input(w + "." + field, "expected a number");
+      return v[field].get<double>();
+    };
+    const double density = number("density"), E = number("E"), nu = number("nu");
+    if (const std::string why = pipeline::why_material_unusable(density, E, nu); !why.empty())
+      throw pipeline::bad_input(w, why);
+    if (v.contains("rigid") && !v["rigid"].is_boolean()) throw pipeline::bad_input(w + ".rigid", "expected true or false");
+    json x = {{"density", density}, {"E", E}, {"nu", nu}};
+    if (v.value("rigid", false)) x["rigid"] = true;
+    out[k] = x;
+  }
+  return out;
+}
 
 nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, int stage, double strap_t,
                          const std::string& stage1_state) {
   using nlohmann::json;
   json d;
-  d["materials"] = json::object();
-  for (auto& [k, v] : mat.at("materials").items())
-    if (k[0] != '_') {
-      json x = {{"density", v.at("density")}, {"E", v.at("E")}, {"nu", v.at("nu")}};
-      if (v.value("rigid", false)) x["rigid"] = true;
-      d["materials"][k] = x;
-    }
+  d["materials"] = deck_materials(mat);
   // Part groups: "<part>_<tissue>" wedges of the head, respirator layers, straps, back of head.
   auto material_of = [&](const std::string& g) -> std::string {
     if (g == "respirator_seal") return "seal_layer";
@@ -86,7 +120,7 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
   json contact = json::array();
   for (const char* s : {"strap_top", "strap_bottom"})
     if (m.find(s)) contact.push_back({{"name", std::string(s) + "_on_head"}, {"slave", s}, {"master", "head_skin"}});
-  const double alpha = mat.contains("damping") ? mat["damping"].value("stage1_alpha_per_ms", 0.5) : 0.5;
+  const double alpha = damping_alpha(mat);
   if (stage == 1) {
     // Head and respirator held; each strap end moves with constant speed to its attachment
     // point in 0–100 ms, around the head (end_path), and stays there to 200 ms (paper Fig. 6).

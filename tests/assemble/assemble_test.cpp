@@ -243,4 +243,51 @@ TEST(assemble_cli, bad_landmarks_give_one_error_line_exit_2_no_outputs) {
   ASSERT_EQ(err.size(), 1u);
   EXPECT_NE(err[0].find("bad_materials.json: not valid JSON"), std::string::npos) << err[0];
   for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+  // A density in g/cm³, the paper's unit, went into the decks with exit 0.
+  nlohmann::json g_cm3 = nlohmann::json::parse(pipeline::read_text(kMaterials));
+  g_cm3["materials"]["skin"]["density"] = 1.2;
+  const std::string g_cm3_path = (dir / "materials_g_cm3.json").string();
+  pipeline::write_text_atomic(g_cm3_path, g_cm3.dump(2));
+  err.clear();
+  EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " +
+                          scene().landmarks_path + " --materials " + g_cm3_path + " --out " + out + " --deck1 " + d1 +
+                          " --deck2 " + d2,
+                      &err),
+            2);
+  ASSERT_EQ(err.size(), 1u);
+  EXPECT_NE(err[0].find(g_cm3_path + ": materials.skin: density 1.2 g/mm³ is outside [1e-06, 0.1]"), std::string::npos)
+      << err[0];
+  for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+}
+
+// Each material of data/materials.json is checked as solve checks a deck's: a value that is not a
+// number, missing, or out of range was copied into the decks, or ended assemble as an internal
+// error.
+TEST(deck_materials, copies_the_materials_and_names_a_bad_entry) {
+  const auto good = nlohmann::json::parse(pipeline::read_text(kMaterials));
+  const auto out = meshing::deck_materials(good);
+  EXPECT_FALSE(out.contains("_comment"));
+  EXPECT_EQ(out.size(), 8u);
+  EXPECT_EQ(out["skin"]["density"].get<double>(), 1.2e-3);
+  EXPECT_EQ(out["fat"]["E"].get<double>(), 0.015);
+  EXPECT_TRUE(out["bone"].value("rigid", false));
+  EXPECT_FALSE(out["skin"].contains("rigid"));
+  auto message_of = [&](const char* field, const nlohmann::json& value) -> std::string {
+    nlohmann::json bad = good;
+    if (value.is_null()) bad["materials"]["skin"].erase(field);
+    else bad["materials"]["skin"][field] = value;
+    try {
+      meshing::deck_materials(bad);
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message_of("E", "x"), "materials.skin.E: expected a number");
+  EXPECT_EQ(message_of("nu", nullptr), "materials.skin.nu: expected a number");
+  EXPECT_EQ(message_of("nu", 0.7), "materials.skin: nu must be in [0, 0.5)");
+  EXPECT_EQ(message_of("E", -1), "materials.skin: E must be > 0 and finite [MPa]");
+  EXPECT_EQ(message_of("rigid", "yes"), "materials.skin.rigid: expected true or false");
+  EXPECT_EQ(message_of("density", 1200).rfind("materials.skin: density 1200 g/mm³ is outside", 0), 0u);
 }

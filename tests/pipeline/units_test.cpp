@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "pipeline/error.h"
@@ -65,4 +66,25 @@ TEST(largest_extent, of_cgal_points_and_eigen_vectors) {
   const std::vector<Eigen::Vector3d> e = {{0, 0, 0}, {3, -1, 9}};
   EXPECT_DOUBLE_EQ(pipeline::largest_extent(e), 9.0);
   EXPECT_DOUBLE_EQ(pipeline::largest_extent(std::vector<pipeline::Point>{}), 0.0);
+}
+
+// Density in g/mm³: the paper's g/cm³ (1.2 for skin) and kg/m³ (1200) are a thousand and a
+// million times too large, t/mm³ (1.2e-9, LS-DYNA's mm-s-t system) a million times too small.
+TEST(why_material_unusable, accepts_the_paper_materials_and_names_a_unit_slip) {
+  EXPECT_EQ(pipeline::why_material_unusable(1.2e-3, 0.6, 0.45), "");   // skin
+  EXPECT_EQ(pipeline::why_material_unusable(4.5e-3, 1000, 0.3), "");   // bone
+  EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0.015, 0.48), "");   // fat
+  for (const double wrong : {1.2, 1200.0, 1.2e-9})
+    EXPECT_EQ(pipeline::why_material_unusable(wrong, 0.6, 0.45).rfind("density " + pipeline::format_number(wrong) +
+                                                                          " g/mm³ is outside [1e-06, 0.1]",
+                                                                      0),
+              0u)
+        << wrong;
+  EXPECT_EQ(pipeline::why_material_unusable(0, 0.6, 0.45), "density must be > 0");
+  EXPECT_EQ(pipeline::why_material_unusable(std::nan(""), 0.6, 0.45), "density must be > 0");
+  EXPECT_EQ(pipeline::why_material_unusable(1e-3, std::numeric_limits<double>::infinity(), 0.45),
+            "E must be > 0 and finite [MPa]");
+  EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0, 0.45), "E must be > 0 and finite [MPa]");
+  EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0.6, 0.5), "nu must be in [0, 0.5)");
+  EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0.6, -0.1), "nu must be in [0, 0.5)");
 }
