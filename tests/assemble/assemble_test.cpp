@@ -215,49 +215,39 @@ TEST(straps_cli, missing_head_gives_one_error_line_exit_2_no_output) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
-TEST(assemble_cli, bad_landmarks_give_one_error_line_exit_2_no_outputs) {
+TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outputs) {
   const auto dir = scratch_dir() / "assemble_cli";
   std::filesystem::create_directories(dir);
-  const std::string bad = (dir / "bad_landmarks.json").string(), out = (dir / "model.msh").string(),
-                    d1 = (dir / "d1.json").string(), d2 = (dir / "d2.json").string(), m = (dir / "m.msh").string();
-  for (const auto& f : {out, d1, d2}) std::filesystem::remove(f);
+  const std::string out = (dir / "model.msh").string(), d1 = (dir / "d1.json").string(),
+                    d2 = (dir / "d2.json").string(), m = (dir / "m.msh").string();
+  layering::write_fe_model(scene().resp, m);  // a readable model, so the landmarks or materials are what fails
+  // assemble on `landmarks` and `materials`: exit 2, one error line holding `words`, no outputs.
+  auto expect_refused = [&](const std::string& landmarks, const std::string& materials, const std::string& words) {
+    for (const auto& f : {out, d1, d2}) std::filesystem::remove(f);
+    std::vector<std::string> err;
+    EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " +
+                            landmarks + " --materials " + materials + " --out " + out + " --deck1 " + d1 +
+                            " --deck2 " + d2,
+                        &err),
+              2);
+    ASSERT_EQ(err.size(), 1u);
+    EXPECT_NE(err[0].find(words), std::string::npos) << err[0];
+    for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+  };
+  const std::string bad = (dir / "bad_landmarks.json").string();
   pipeline::write_text_atomic(bad, "{\"landmarks\": {}}");
-  layering::write_fe_model(scene().resp, m);  // a readable model, so the landmarks are what fails
-  std::vector<std::string> err;
-  EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " + bad +
-                          " --materials " + kMaterials + " --out " + out + " --deck1 " + d1 + " --deck2 " + d2,
-                      &err),
-            2);
-  ASSERT_EQ(err.size(), 1u);
-  EXPECT_NE(err[0].find("bad_landmarks.json"), std::string::npos) << err[0];
-  for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+  expect_refused(bad, kMaterials, "bad_landmarks.json");
   // A truncated materials file was once an internal error (exit 3) with nlohmann's exception tag.
   const std::string bad_materials = (dir / "bad_materials.json").string();
   pipeline::write_text_atomic(bad_materials, "{\"head\": [");
-  err.clear();
-  EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " +
-                          scene().landmarks_path + " --materials " + bad_materials + " --out " + out + " --deck1 " + d1 +
-                          " --deck2 " + d2,
-                      &err),
-            2);
-  ASSERT_EQ(err.size(), 1u);
-  EXPECT_NE(err[0].find("bad_materials.json: not valid JSON"), std::string::npos) << err[0];
-  for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+  expect_refused(scene().landmarks_path, bad_materials, "bad_materials.json: not valid JSON");
   // A density in g/cm³, the paper's unit, went into the decks with exit 0.
   nlohmann::json g_cm3 = nlohmann::json::parse(pipeline::read_text(kMaterials));
   g_cm3["materials"]["skin"]["density"] = 1.2;
   const std::string g_cm3_path = (dir / "materials_g_cm3.json").string();
   pipeline::write_text_atomic(g_cm3_path, g_cm3.dump(2));
-  err.clear();
-  EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " +
-                          scene().landmarks_path + " --materials " + g_cm3_path + " --out " + out + " --deck1 " + d1 +
-                          " --deck2 " + d2,
-                      &err),
-            2);
-  ASSERT_EQ(err.size(), 1u);
-  EXPECT_NE(err[0].find(g_cm3_path + ": materials.skin: density 1.2 g/mm³ is outside [1e-06, 0.1]"), std::string::npos)
-      << err[0];
-  for (const auto& f : {out, d1, d2}) EXPECT_FALSE(std::filesystem::exists(f)) << f;
+  expect_refused(scene().landmarks_path, g_cm3_path,
+                 g_cm3_path + ": materials.skin: density 1.2 g/mm³ is outside [1e-06, 0.1]");
 }
 
 // Each material of data/materials.json is checked as solve checks a deck's: a value that is not a
