@@ -1,5 +1,6 @@
 #include "solve/save_state.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -39,8 +40,10 @@ void save_state(const std::string& path, const SolverState& s) {
 }
 
 SolverState load_state(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw pipeline::bad_input(path, "cannot open the state file");
+  const std::uint64_t file_bytes = std::uint64_t(in.tellg());
+  in.seekg(0);
   char magic[16];
   in.read(magic, sizeof magic);
   const bool v1 = in && std::memcmp(magic, kMagicV1, sizeof magic) == 0;
@@ -48,30 +51,44 @@ SolverState load_state(const std::string& path) {
     throw pipeline::bad_input(path, "not a solve state file (bad header)");
   double sc[8];
   in.read(reinterpret_cast<char*>(sc), sizeof sc);
+  if (!in) throw pipeline::bad_input(path, "truncated state file");
   SolverState s;
   s.time = sc[0]; s.dt = sc[1]; s.step = long(sc[2]);
   s.e_contact = sc[3]; s.e_damping = sc[4]; s.w_external = sc[5]; s.e_initial = sc[6]; s.e_initial_set = sc[7] != 0;
-  auto get_vec = [&](std::vector<double>& v) {
+  // A damaged file is refused here, not run: a count past the file's end would allocate up to
+  // 32 GB before the read failed, and a NaN position only shows as a "diverged" run (exit 3).
+  auto check_finite = [&](const double* v, std::size_t n, const char* what) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (!std::isfinite(v[i]))
+        throw pipeline::bad_input(path, std::string("non-finite value in the state's ") + what + " at index " +
+                                            std::to_string(i));
+  };
+  check_finite(sc, 8, "time, step and energies");
+  auto get_vec = [&](std::vector<double>& v, const char* what) {
     std::uint64_t n = 0;
     in.read(reinterpret_cast<char*>(&n), sizeof n);
-    if (!in || n > (1ull << 32)) throw pipeline::bad_input(path, "truncated state file");
+    const std::uint64_t left = in ? file_bytes - std::uint64_t(in.tellg()) : 0;
+    if (!in || n > left / sizeof(double)) throw pipeline::bad_input(path, "truncated state file");
     v.resize(n);
     in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(double)));
     if (!in) throw pipeline::bad_input(path, "truncated state file");
+    check_finite(v.data(), v.size(), what);
   };
-  get_vec(s.X);
-  get_vec(s.x);
-  get_vec(s.v);
-  get_vec(s.rigid);
+  get_vec(s.X, "reference positions");
+  get_vec(s.x, "positions");
+  get_vec(s.v, "velocities");
+  get_vec(s.rigid, "rigid-body state");
   if (!v1) {
     std::uint64_t n_pairs = 0;
     in.read(reinterpret_cast<char*>(&n_pairs), sizeof n_pairs);
     if (!in || n_pairs > (1ull << 20)) throw pipeline::bad_input(path, "truncated state file");
     s.contact_history.resize(n_pairs);
-    for (auto& h : s.contact_history) get_vec(h);
+    for (auto& h : s.contact_history) get_vec(h, "contact history");
   }
   if (s.x.size() != s.X.size() || s.v.size() != s.X.size())
     throw pipeline::bad_input(path, "inconsistent state file (array sizes differ)");
+  if (const std::uint64_t end = std::uint64_t(in.tellg()); end != file_bytes)
+    throw pipeline::bad_input(path, std::to_string(file_bytes - end) + " bytes after the end of the state (two files joined?)");
   return s;
 }
 

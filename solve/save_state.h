@@ -14,7 +14,7 @@ namespace solve {
 void save_state(const std::string& path, const SolverState& s);
 
 /// Reads a state file. @throws pipeline::Error(bad_input) naming the file if it is missing,
-/// truncated or not a state file.
+/// truncated, not a state file, holds a NaN or infinite value, or has bytes after its end.
 SolverState load_state(const std::string& path);
 
 }  // namespace solve

@@ -5,10 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 
+#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "solve/make_block.h"
 #include "solve/run.h"
@@ -186,6 +189,42 @@ TEST(save_state, restarted_run_continues_identically) {
     ASSERT_EQ(a.x()[k], c.x()[k]) << k;
     ASSERT_EQ(a.v()[k], c.v()[k]) << k;
   }
+}
+
+// A damaged state file is refused naming the file, before any step: a NaN velocity or position
+// was run (and ends as "diverged", exit 3, or not at all on a fixed node), bytes after the end were
+// ignored, and a vector count past the file's end allocated up to 32 GB before the read failed.
+TEST(save_state, damaged_state_files_are_bad_input) {
+  solve::Solver b(busy_block());
+  b.run_until(0.3);
+  const std::string dir = temp_dir("damaged_state"), good = dir + "/state.bin";
+  solve::save_state(good, b.state());
+  const std::string bytes = pipeline::read_text(good);
+  auto message_of = [&](const std::string& name, const std::string& content) -> std::string {
+    const std::string path = dir + "/" + name;
+    pipeline::write_text_atomic(path, content);
+    try {
+      solve::load_state(path);
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      return std::string(e.what()).substr(path.size() + 2);  // after "path: "
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message_of("good.bin", bytes), "no error");
+  EXPECT_EQ(message_of("cut.bin", bytes.substr(0, bytes.size() / 2)), "truncated state file");
+  EXPECT_EQ(message_of("joined.bin", bytes + bytes), std::to_string(bytes.size()) +
+                                                         " bytes after the end of the state (two files joined?)");
+  // The layout: 16-byte magic, 8 scalars, then each vector as a count and its doubles (X, x, v, ...).
+  const std::size_t n_X = b.state().X.size(), x_at = 16 + 8 * 8 + 8 + 8 * n_X + 8;
+  std::string nan_position = bytes;
+  const double nan = std::nan("");
+  std::memcpy(&nan_position[x_at + 8 * 5], &nan, 8);
+  EXPECT_EQ(message_of("nan.bin", nan_position), "non-finite value in the state's positions at index 5");
+  std::string huge_count = bytes;
+  const std::uint64_t count = std::uint64_t(1) << 31;
+  std::memcpy(&huge_count[16 + 8 * 8], &count, 8);
+  EXPECT_EQ(message_of("huge.bin", huge_count), "truncated state file");
 }
 
 // Results do not depend on the thread count: element forces go to private arrays and are gathered
