@@ -90,15 +90,21 @@ double gap_with_shift(const FeModel& head, const internal::TriangleTree& head_tr
 }  // namespace
 
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
+  const auto j = pipeline::read_json(path);
+  if (!j.is_object() || !j.contains("landmarks") || !j["landmarks"].is_object())
+    throw pipeline::bad_input(path, "no \"landmarks\" object");
   std::map<std::string, Eigen::Vector3d> out;
-  try {
-    const auto j = pipeline::read_json(path);
-    for (auto& [name, v] : j.at("landmarks").items()) {
-      const auto& p = v.at("position");
-      out[name] = Eigen::Vector3d(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
+  for (auto& [name, v] : j["landmarks"].items()) {
+    if (!v.is_object() || !v.contains("position") || !v["position"].is_array() || v["position"].size() != 3)
+      throw pipeline::bad_input(path, "landmark " + name + ": \"position\" is not [x, y, z]");
+    Eigen::Vector3d p;
+    for (int k = 0; k < 3; ++k) {
+      const auto& c = v["position"][std::size_t(k)];
+      if (!c.is_number() || !std::isfinite(c.get<double>()))
+        throw pipeline::bad_input(path, "landmark " + name + ": a coordinate is not a finite number");
+      p[k] = c.get<double>();
     }
-  } catch (const nlohmann::json::exception& e) {
-    throw pipeline::bad_input(path, std::string("not a landmarks file: ") + e.what());
+    out[name] = p;
   }
   for (const char* k : {"sellion", "menton"})
     if (!out.count(k)) throw pipeline::bad_input(path, std::string("landmark ") + k + " missing");
@@ -113,6 +119,16 @@ Tris head_surface(const FeModel& head) {
       for (std::size_t e = 0; e < b.size(); ++e) t.push_back({b.conn[3 * e], b.conn[3 * e + 1], b.conn[3 * e + 2]});
   if (t.empty()) throw pipeline::bad_input("head", "no triangle group for the skin surface");
   return t;
+}
+
+void require_landmarks_near_skin(const FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
+                                 const std::string& path, double max_mm) {
+  const internal::TriangleTree skin(head.nodes, head_surface(head));
+  for (const auto& [name, p] : lm)
+    if (const double d = skin.distance(p); !(d <= max_mm))
+      throw pipeline::bad_input(path, "landmark " + name + " is " + pipeline::format_number(d) +
+                                          " mm from the head's skin, expected <= " + pipeline::format_number(max_mm) +
+                                          " mm (landmarks of another head, or not in align's frame?)");
 }
 
 double respirator_gap(const FeModel& head, const FeModel& resp) {

@@ -12,8 +12,17 @@
 namespace meshing {
 
 /// Landmark name → position [mm] (landmarks JSON of the pipeline). @throws Error(bad_input) naming
-/// the file if unreadable or if sellion or menton is missing.
+/// the file if unreadable, if a position is not three finite numbers, or if sellion or menton is
+/// missing.
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
+
+/// Every landmark of `lm` (read from `path`) within `max_mm` of the head's skin (its head_skin
+/// group, else all its triangles). The landmarks stage puts them on the aligned surface, which the
+/// layered skin follows to a few mm; one far off (another head's file, a hand edit in another
+/// frame) made straps hang on a coordinate of 1e300.
+/// @throws Error(bad_input) naming `path` and the landmark.
+void require_landmarks_near_skin(const layering::FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
+                                 const std::string& path, double max_mm = 20);
 
 struct PlaceOptions {
   double gap_mm = 3.0;            ///< minimum distance respirator–skin [mm], > 0

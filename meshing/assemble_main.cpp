@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
     const auto lm = meshing::read_landmarks(landmarks);
     const auto mat = pipeline::read_json(materials);
     pipeline::naming_file(materials, [&] { return meshing::deck_materials(mat); });  // before the placement's work
+    meshing::require_landmarks_near_skin(h, lm, landmarks);
     // 2. Place and merge (checks the gap and that nothing intersects).
     meshing::AssembleReport rep;
     const auto model = meshing::assemble_model(h, r, s, lm, opt, &rep);

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     const auto h = layering::read_fe_model(head);
     pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");
     const auto lm = meshing::read_landmarks(landmarks);
+    meshing::require_landmarks_near_skin(h, lm, landmarks);
     const auto r = layering::read_fe_model(resp);
     pipeline::require_mm(resp, pipeline::largest_extent(r.nodes), "respirator");
     // 2. Lay the straps.

@@ -59,7 +59,10 @@ Landmarks read_landmarks(const std::string& path) {
       p.position[k] = v["position"][k].get<double>();
     }
     if (!p.position.allFinite()) throw pipeline::bad_input(path, what + ": non-finite position");
-    p.confidence = v.contains("confidence") && v["confidence"].is_number() ? v["confidence"].get<double>() : 1.0;
+    // Optional (1 when absent); a value that is there must be a number, not silently 1.
+    if (v.contains("confidence") && !v["confidence"].is_number())
+      throw pipeline::bad_input(path, what + ": confidence " + v["confidence"].dump() + ", expected a number 0..1");
+    p.confidence = v.contains("confidence") ? v["confidence"].get<double>() : 1.0;
     if (!(p.confidence >= 0.0 && p.confidence <= 1.0))
       throw pipeline::bad_input(path, what + ": confidence " + pipeline::format_number(p.confidence) + ", expected 0..1");
     l.points[name] = p;

@@ -250,6 +250,36 @@ TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outp
                  g_cm3_path + ": materials.skin: density 1.2 g/mm³ is outside [1e-06, 0.1]");
 }
 
+// straps and assemble check the landmarks against the head they are given: a coordinate of 1e300
+// made straps hang, and nlohmann's exception tags ended up in the error line.
+TEST(read_landmarks, refuses_a_bad_position_or_a_landmark_off_the_skin) {
+  auto& s = scene();
+  const auto good = nlohmann::json::parse(pipeline::read_text(s.landmarks_path));
+  EXPECT_NO_THROW(meshing::require_landmarks_near_skin(s.head, s.lm, s.landmarks_path));
+  const std::string path = (scratch_dir() / "edited_landmarks.json").string();
+  auto message_of = [&](const nlohmann::json& position) -> std::string {
+    nlohmann::json edited = good;
+    edited["landmarks"]["menton"]["position"] = position;
+    pipeline::write_text_atomic(path, edited.dump());
+    try {
+      meshing::require_landmarks_near_skin(s.head, meshing::read_landmarks(path), path);
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      return std::string(e.what()).substr(path.size() + 2);
+    }
+    return "no error";
+  };
+  const Eigen::Vector3d menton = s.lm.at("menton");
+  EXPECT_EQ(message_of({menton.x(), menton.y(), menton.z()}), "no error");
+  EXPECT_EQ(message_of({menton.x(), "x", menton.z()}), "landmark menton: a coordinate is not a finite number");
+  EXPECT_EQ(message_of({menton.x(), menton.y()}), "landmark menton: \"position\" is not [x, y, z]");
+  EXPECT_EQ(message_of({1e300, menton.y(), menton.z()}).rfind("landmark menton is inf mm from the head's skin", 0), 0u);
+  // 100 mm in front of the chin: another head's landmarks, or ones in the scan's frame
+  const std::string off = message_of({menton.x(), menton.y(), menton.z() + 100});
+  EXPECT_EQ(off.rfind("landmark menton is ", 0), 0u) << off;
+  EXPECT_NE(off.find(" mm from the head's skin, expected <= 20 mm"), std::string::npos) << off;
+}
+
 // Each material of data/materials.json is checked as solve checks a deck's: a value that is not a
 // number, missing, or out of range was copied into the decks, or ended assemble as an internal
 // error.

@@ -1,6 +1,8 @@
 // detect_landmarks on the aligned NIOSH medium and large headforms; read_landmarks validation.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 
@@ -130,5 +132,30 @@ TEST(read_landmarks, rejects_a_left_point_on_the_right) {
   } catch (const pipeline::Error& e) {
     EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
     EXPECT_NE(std::string(e.what()).find("zygion_left"), std::string::npos) << e.what();
+  }
+}
+
+// confidence is optional (1 when absent), but one that is there and not a number was read as 1.
+TEST(read_landmarks, rejects_a_confidence_that_is_not_a_number) {
+  const auto path = scratch_dir() / "confidence.json";
+  scan2cad::Landmarks l;
+  for (const auto& n : scan2cad::required_landmarks()) {
+    const double x = n.find("_left") != std::string::npos ? 50 : n.find("_right") != std::string::npos ? -50 : 0;
+    l.points[n] = {Eigen::Vector3d(x, 0, 0), 0.5};
+  }
+  auto j = nlohmann::json::parse(scan2cad::landmarks_json(l));
+  j["landmarks"]["sellion"].erase("confidence");
+  std::ofstream(path) << j.dump();
+  EXPECT_EQ(scan2cad::read_landmarks(path.string()).points.at("sellion").confidence, 1.0);
+  EXPECT_EQ(scan2cad::read_landmarks(path.string()).points.at("menton").confidence, 0.5);
+  j["landmarks"]["sellion"]["confidence"] = "high";
+  std::ofstream(path) << j.dump();
+  try {
+    scan2cad::read_landmarks(path.string());
+    FAIL() << "accepted confidence \"high\"";
+  } catch (const pipeline::Error& e) {
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+    EXPECT_NE(std::string(e.what()).find("sellion: confidence \"high\", expected a number 0..1"), std::string::npos)
+        << e.what();
   }
 }
