@@ -126,8 +126,10 @@ void require_landmarks_near_skin(const FeModel& head, const std::map<std::string
   const internal::TriangleTree skin(head.nodes, head_surface(head));
   for (const auto& [name, p] : lm)
     if (const double d = skin.distance(p); !(d <= max_mm))
-      throw pipeline::bad_input(path, "landmark " + name + " is " + pipeline::format_number(d) +
-                                          " mm from the head's skin, expected <= " + pipeline::format_number(max_mm) +
+      throw pipeline::bad_input(path, "landmark " + name + " at (" + pipeline::format_number(p.x()) + ", " +
+                                          pipeline::format_number(p.y()) + ", " + pipeline::format_number(p.z()) +
+                                          ") is " + pipeline::format_number(d) + " mm from the head's skin, expected <= " +
+                                          pipeline::format_number(max_mm) +
                                           " mm (landmarks of another head, or not in align's frame?)");
 }
 

@@ -69,6 +69,11 @@ layering::FeModel assemble_model(const layering::FeModel& head, const layering::
 /// @throws Error(bad_input) naming the entry: "materials.skin.E: expected a number".
 nlohmann::json deck_materials(const nlohmann::json& materials);
 
+/// Stage I's mass-proportional damping [1/ms] from parsed data/materials.json's
+/// "damping": {"stage1_alpha_per_ms": ...}; 0.5 when the file gives none.
+/// @throws Error(bad_input) "damping.stage1_alpha_per_ms: ..." unless a finite number >= 0.
+double stage1_damping_alpha(const nlohmann::json& materials);
+
 /// Solver deck (solve/README.md) for stage 1 (strap wrapping, head and respirator fixed, strap ends
 /// pulled to the attachment points in 0–100 ms, held to 200 ms) or stage 2 (respirator released,
 /// straps tied to it, bone and back of head fixed, 0–150 ms, starts from stage 1's state).

@@ -47,7 +47,10 @@ int main(int argc, char** argv) {
     pipeline::require_mm(straps, pipeline::largest_extent(s.nodes), "head");  // straps span the head
     const auto lm = meshing::read_landmarks(landmarks);
     const auto mat = pipeline::read_json(materials);
-    pipeline::naming_file(materials, [&] { return meshing::deck_materials(mat); });  // before the placement's work
+    pipeline::naming_file(materials, [&] {  // checked before the placement's work
+      meshing::deck_materials(mat);
+      return meshing::stage1_damping_alpha(mat);
+    });
     meshing::require_landmarks_near_skin(h, lm, landmarks);
     // 2. Place and merge (checks the gap and that nothing intersects).
     meshing::AssembleReport rep;

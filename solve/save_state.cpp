@@ -52,9 +52,6 @@ SolverState load_state(const std::string& path) {
   double sc[8];
   in.read(reinterpret_cast<char*>(sc), sizeof sc);
   if (!in) throw pipeline::bad_input(path, "truncated state file");
-  SolverState s;
-  s.time = sc[0]; s.dt = sc[1]; s.step = long(sc[2]);
-  s.e_contact = sc[3]; s.e_damping = sc[4]; s.w_external = sc[5]; s.e_initial = sc[6]; s.e_initial_set = sc[7] != 0;
   // A damaged file is refused here, not run: a count past the file's end would allocate up to
   // 32 GB before the read failed, and a NaN position only shows as a "diverged" run (exit 3).
   auto check_finite = [&](const double* v, std::size_t n, const char* what) {
@@ -64,6 +61,10 @@ SolverState load_state(const std::string& path) {
                                             std::to_string(i));
   };
   check_finite(sc, 8, "time, step and energies");
+  if (!(sc[2] >= 0 && sc[2] < 1e15)) throw pipeline::bad_input(path, "step count " + pipeline::format_number(sc[2]) + " out of range");
+  SolverState s;
+  s.time = sc[0]; s.dt = sc[1]; s.step = long(sc[2]);
+  s.e_contact = sc[3]; s.e_damping = sc[4]; s.w_external = sc[5]; s.e_initial = sc[6]; s.e_initial_set = sc[7] != 0;
   auto get_vec = [&](std::vector<double>& v, const char* what) {
     std::uint64_t n = 0;
     in.read(reinterpret_cast<char*>(&n), sizeof n);

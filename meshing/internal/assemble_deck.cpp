@@ -45,19 +45,6 @@ EndPath end_path(const internal::TriangleTree& skin, const Eigen::Vector3d& from
   return p;
 }
 
-// Stage I's mass-proportional damping [1/ms] from "damping": {"stage1_alpha_per_ms": ...}; 0.5
-// when the file gives none.
-double damping_alpha(const nlohmann::json& mat) {
-  if (!mat.contains("damping")) return 0.5;
-  const auto& d = mat["damping"];
-  if (!d.is_object()) throw pipeline::bad_input("damping", "expected an object");
-  if (!d.contains("stage1_alpha_per_ms")) return 0.5;
-  if (!d["stage1_alpha_per_ms"].is_number() || !(d["stage1_alpha_per_ms"].get<double>() >= 0) ||
-      !std::isfinite(d["stage1_alpha_per_ms"].get<double>()))
-    throw pipeline::bad_input("damping.stage1_alpha_per_ms", "expected a number >= 0 [1/ms]");
-  return d["stage1_alpha_per_ms"].get<double>();
-}
-
 }  // namespace
 
 // Before this check a bad value (E "x", nu 0.7, a density in g/cm³) went into the decks with
@@ -84,6 +71,17 @@ nlohmann::json deck_materials(const nlohmann::json& mat) {
     out[k] = x;
   }
   return out;
+}
+
+double stage1_damping_alpha(const nlohmann::json& mat) {
+  if (!mat.contains("damping")) return 0.5;
+  const auto& d = mat["damping"];
+  if (!d.is_object()) throw pipeline::bad_input("damping", "expected an object");
+  if (!d.contains("stage1_alpha_per_ms")) return 0.5;
+  if (!d["stage1_alpha_per_ms"].is_number() || !(d["stage1_alpha_per_ms"].get<double>() >= 0) ||
+      !std::isfinite(d["stage1_alpha_per_ms"].get<double>()))
+    throw pipeline::bad_input("damping.stage1_alpha_per_ms", "expected a number >= 0 [1/ms]");
+  return d["stage1_alpha_per_ms"].get<double>();
 }
 
 nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, int stage, double strap_t,
@@ -120,7 +118,7 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
   json contact = json::array();
   for (const char* s : {"strap_top", "strap_bottom"})
     if (m.find(s)) contact.push_back({{"name", std::string(s) + "_on_head"}, {"slave", s}, {"master", "head_skin"}});
-  const double alpha = damping_alpha(mat);
+  const double alpha = stage1_damping_alpha(mat);
   if (stage == 1) {
     // Head and respirator held; each strap end moves with constant speed to its attachment
     // point in 0–100 ms, around the head (end_path), and stays there to 200 ms (paper Fig. 6).

@@ -116,4 +116,9 @@ TEST(read_msh, reads_a_file_with_windows_line_ends) {
   const pipeline::MshFile f = pipeline::read_msh(scratch_file("square_crlf.msh", crlf));
   EXPECT_EQ(f.n_nodes(), 4u);
   EXPECT_EQ(f.groups.size(), 2u);
+  // ... and is checked: with the "\r" kept, line 1 would not read as "$MeshFormat" and the check
+  // would skip the file.
+  const std::string cut = scratch_file("square_crlf_no_end_nodes.msh", crlf.erase(crlf.find("$EndNodes\r\n"), 11));
+  EXPECT_EQ(msh_error_of(cut).rfind(cut + ": section $Nodes (line 13) is not closed by $EndNodes", 0), 0u)
+      << msh_error_of(cut);
 }
