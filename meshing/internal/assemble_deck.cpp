@@ -78,10 +78,10 @@ double stage1_damping_alpha(const nlohmann::json& mat) {
   const auto& d = mat["damping"];
   if (!d.is_object()) throw pipeline::bad_input("damping", "expected an object");
   if (!d.contains("stage1_alpha_per_ms")) return 0.5;
-  if (!d["stage1_alpha_per_ms"].is_number() || !(d["stage1_alpha_per_ms"].get<double>() >= 0) ||
-      !std::isfinite(d["stage1_alpha_per_ms"].get<double>()))
+  const auto& alpha = d["stage1_alpha_per_ms"];
+  if (!alpha.is_number() || !(alpha.get<double>() >= 0) || !std::isfinite(alpha.get<double>()))
     throw pipeline::bad_input("damping.stage1_alpha_per_ms", "expected a number >= 0 [1/ms]");
-  return d["stage1_alpha_per_ms"].get<double>();
+  return alpha.get<double>();
 }
 
 nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, int stage, double strap_t,

@@ -115,13 +115,22 @@ TEST(guessed_landmarks, the_sellion_of_a_sphere_but_nothing_on_the_niosh_heads) 
     EXPECT_TRUE(scan2cad::guessed_landmarks(scan2cad::detect_landmarks(aligned_head(name))).empty()) << name;
 }
 
-TEST(read_landmarks, rejects_a_left_point_on_the_right) {
-  const auto path = scratch_dir() / "bad.json";
+namespace {
+// Every required landmark, the left ones at x = 50, the right ones at x = -50, the rest at the
+// origin: what read_landmarks accepts, for a test to break one thing of.
+scan2cad::Landmarks sided_landmarks(double confidence) {
   scan2cad::Landmarks l;
   for (const auto& n : scan2cad::required_landmarks()) {
     const double x = n.find("_left") != std::string::npos ? 50 : n.find("_right") != std::string::npos ? -50 : 0;
-    l.points[n] = {Eigen::Vector3d(x, 0, 0), 1.0};
+    l.points[n] = {Eigen::Vector3d(x, 0, 0), confidence};
   }
+  return l;
+}
+}  // namespace
+
+TEST(read_landmarks, rejects_a_left_point_on_the_right) {
+  const auto path = scratch_dir() / "bad.json";
+  scan2cad::Landmarks l = sided_landmarks(1.0);
   std::ofstream(path) << scan2cad::landmarks_json(l);
   EXPECT_NO_THROW(scan2cad::read_landmarks(path.string()));
   l.points["zygion_left"].position.x() = -50;
@@ -138,16 +147,12 @@ TEST(read_landmarks, rejects_a_left_point_on_the_right) {
 // confidence is optional (1 when absent), but one that is there and not a number was read as 1.
 TEST(read_landmarks, rejects_a_confidence_that_is_not_a_number) {
   const auto path = scratch_dir() / "confidence.json";
-  scan2cad::Landmarks l;
-  for (const auto& n : scan2cad::required_landmarks()) {
-    const double x = n.find("_left") != std::string::npos ? 50 : n.find("_right") != std::string::npos ? -50 : 0;
-    l.points[n] = {Eigen::Vector3d(x, 0, 0), 0.5};
-  }
-  auto j = nlohmann::json::parse(scan2cad::landmarks_json(l));
+  auto j = nlohmann::json::parse(scan2cad::landmarks_json(sided_landmarks(0.5)));
   j["landmarks"]["sellion"].erase("confidence");
   std::ofstream(path) << j.dump();
-  EXPECT_EQ(scan2cad::read_landmarks(path.string()).points.at("sellion").confidence, 1.0);
-  EXPECT_EQ(scan2cad::read_landmarks(path.string()).points.at("menton").confidence, 0.5);
+  const scan2cad::Landmarks read = scan2cad::read_landmarks(path.string());
+  EXPECT_EQ(read.points.at("sellion").confidence, 1.0);
+  EXPECT_EQ(read.points.at("menton").confidence, 0.5);
   j["landmarks"]["sellion"]["confidence"] = "high";
   std::ofstream(path) << j.dump();
   try {
