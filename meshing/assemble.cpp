@@ -4,14 +4,13 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <cmath>
 #include <set>
 
 #include "layering/internal/layers_columns.h"
 #include "layering/internal/layers_geometry.h"
 #include "meshing/internal/assemble_geometry.h"
 #include "pipeline/error.h"
-#include "pipeline/read_json.h"
+#include "pipeline/read_landmarks.h"
 
 namespace meshing {
 namespace {
@@ -90,25 +89,9 @@ double gap_with_shift(const FeModel& head, const internal::TriangleTree& head_tr
 }  // namespace
 
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
-  const auto j = pipeline::read_json(path);
-  if (!j.is_object() || !j.contains("landmarks") || !j["landmarks"].is_object())
-    throw pipeline::bad_input(path, "no \"landmarks\" object");
-  std::map<std::string, Eigen::Vector3d> out;
-  for (auto& [name, v] : j["landmarks"].items()) {
-    if (!v.is_object() || !v.contains("position") || !v["position"].is_array() || v["position"].size() != 3)
-      throw pipeline::bad_input(path, "landmark " + name + ": \"position\" is not [x, y, z]");
-    Eigen::Vector3d p;
-    for (int k = 0; k < 3; ++k) {
-      const auto& c = v["position"][std::size_t(k)];
-      if (!c.is_number() || !std::isfinite(c.get<double>()))
-        throw pipeline::bad_input(path, "landmark " + name + ": a coordinate is not a finite number");
-      p[k] = c.get<double>();
-    }
-    out[name] = p;
-  }
-  for (const char* k : {"sellion", "menton"})
-    if (!out.count(k)) throw pipeline::bad_input(path, std::string("landmark ") + k + " missing");
-  return out;
+  std::map<std::string, Eigen::Vector3d> positions;
+  for (const auto& [name, l] : pipeline::read_landmarks(path, {"sellion", "menton"})) positions[name] = l.position;
+  return positions;
 }
 
 Tris head_surface(const FeModel& head) {

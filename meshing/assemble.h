@@ -11,9 +11,8 @@
 
 namespace meshing {
 
-/// Landmark name → position [mm] (landmarks JSON of the pipeline). @throws Error(bad_input) naming
-/// the file if unreadable, if a position is not three finite numbers, or if sellion or menton is
-/// missing.
+/// Landmark name → position [mm] (landmarks JSON of the pipeline, read by pipeline::read_landmarks).
+/// @throws Error(bad_input) naming the file as that reader does, or if sellion or menton is missing.
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
 
 /// Every landmark of `lm` (read from `path`) within `max_mm` of the head's skin (its head_skin

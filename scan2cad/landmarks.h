@@ -10,21 +10,20 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/read_landmarks.h"
 #include "pipeline/surface_mesh.h"
 
 namespace scan2cad {
 
-struct Landmark {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< [mm], head frame
-  double confidence = 0.0;                              ///< 0 (guess) … 1 (clear feature)
-};
+using Landmark = pipeline::Landmark;  ///< position [mm] in the head frame, confidence 0 … 1
 
 struct Landmarks {
   std::string source = "detected";  ///< "detected" or "user"
   std::map<std::string, Landmark> points;
 };
 
-/// The landmarks every file must hold (extras such as subnasale are allowed).
+/// The landmarks every file must hold (pipeline::head_landmark_names; extras such as subnasale are
+/// allowed).
 const std::vector<std::string>& required_landmarks();
 
 /// Detects the landmarks on an aligned head.
@@ -47,8 +46,9 @@ double face_width(const Landmarks& l);
 /// The landmarks as JSON (frame, source, landmarks, measures_mm).
 std::string landmarks_json(const Landmarks& l);
 
-/// Reads and validates a landmarks file (a user's or ours): every required name present,
-/// positions 3 finite numbers, confidence in [0, 1], left points at x > 0 and right at x < 0.
+/// Reads and validates a landmarks file (a user's or ours) with pipeline::read_landmarks: every
+/// required name present, positions 3 finite numbers, confidence in [0, 1], left points at x > 0
+/// and right at x < 0. `source` is "user".
 /// @throws pipeline::Error(bad_input) naming `path` and the first problem.
 Landmarks read_landmarks(const std::string& path);
 

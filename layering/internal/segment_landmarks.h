@@ -7,10 +7,11 @@
 
 namespace layering::internal {
 
-/// Reads the landmarks file.
-/// @throws pipeline::Error(bad_input) naming `path` if it is missing, not JSON, lacks one of the
-///         points above, has non-finite coordinates, or puts a left landmark at x < 0 / a right
-///         one at x > 0 (mirrored frame) or the menton above the sellion.
+/// Reads the landmarks file with pipeline::read_landmarks (which checks positions, confidences and
+/// sides) and keeps the nine points segmentation needs.
+/// @throws pipeline::Error(bad_input) naming `path` as that reader does, if one of the nine is
+///         missing, if the menton is not at least 30 mm below the sellion (a head not y-up), or if
+///         the pronasale is not between them in y (landmarks swapped).
 HeadLandmarks read_segment_landmarks(const std::string& path);
 
 }  // namespace layering::internal

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../bad_input_message.h"
 #include "../layers/layers_fixtures.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
@@ -261,13 +262,8 @@ TEST(read_landmarks, refuses_a_bad_position_or_a_landmark_off_the_skin) {
     nlohmann::json edited = good;
     edited["landmarks"]["menton"]["position"] = position;
     pipeline::write_text_atomic(path, edited.dump());
-    try {
-      meshing::require_landmarks_near_skin(s.head, meshing::read_landmarks(path), path);
-    } catch (const pipeline::Error& e) {
-      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
-      return std::string(e.what()).substr(path.size() + 2);
-    }
-    return "no error";
+    return bad_input_message(
+        [&] { meshing::require_landmarks_near_skin(s.head, meshing::read_landmarks(path), path); }, path);
   };
   const Eigen::Vector3d menton = s.lm.at("menton");
   EXPECT_EQ(message_of({menton.x(), menton.y(), menton.z()}), "no error");
@@ -297,13 +293,7 @@ TEST(deck_materials, copies_the_materials_and_names_a_bad_entry) {
     nlohmann::json bad = good;
     if (value.is_null()) bad["materials"]["skin"].erase(field);
     else bad["materials"]["skin"][field] = value;
-    try {
-      meshing::deck_materials(bad);
-    } catch (const pipeline::Error& e) {
-      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
-      return e.what();
-    }
-    return "no error";
+    return bad_input_message([&] { meshing::deck_materials(bad); });
   };
   EXPECT_EQ(message_of("E", "x"), "materials.skin.E: expected a number");
   EXPECT_EQ(message_of("nu", nullptr), "materials.skin.nu: expected a number");

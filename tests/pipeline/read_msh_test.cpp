@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "../bad_input_message.h"
 #include "../scratch_dir.h"
 #include "pipeline/error.h"
 #include "pipeline/read_msh.h"
@@ -24,15 +25,9 @@ std::string square_msh(const std::string& x_of_node_11 = "1", int shared_edge_en
          "\n$EndElements\n";
 }
 
-// The message of the bad-input error read_msh throws, or "" when it throws none.
+// The message of the bad-input error read_msh throws, or "no error".
 std::string msh_error_of(const std::string& path) {
-  try {
-    pipeline::read_msh(path);
-  } catch (const pipeline::Error& e) {
-    EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input) << e.what();
-    return e.what();
-  }
-  return "";
+  return bad_input_message([&] { pipeline::read_msh(path); });
 }
 
 }  // namespace

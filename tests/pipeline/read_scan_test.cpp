@@ -9,6 +9,7 @@
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
+#include "../bad_input_message.h"
 #include "../file_text.h"
 #include "../scratch_dir.h"
 
@@ -97,14 +98,7 @@ TEST(write_point_cloud, upper_case_endings_are_the_formats_of_their_lower_case) 
 TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
   const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
-  auto message_of = [](const std::string& path) -> std::string {
-    try {
-      pipeline::read_scan(path);
-    } catch (const pipeline::Error& e) {
-      return e.what();
-    }
-    return "no error";
-  };
+  auto message_of = [](const std::string& path) { return bad_input_message([&] { pipeline::read_scan(path); }); };
   const std::string nan_ply = scratch_file("nan_ascii.ply", header + "0 0 0\n100 0 0\n0 NaN 0\n3 0 1 2\n");
   EXPECT_EQ(message_of(nan_ply), nan_ply + ": line 12: a coordinate is NaN or infinite");
   const std::string inf_off = scratch_file("inf.off", "OFF\n3 1 0\n0 0 0\n-inf 0 0\n0 100 0\n3 0 1 2\n");
@@ -123,14 +117,8 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
 // file: CGAL's reader fails alike on both, and the message said "unreadable, truncated or
 // non-manifold".
 TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
-  auto message_of = [](const std::string& path) -> std::string {
-    try {
-      pipeline::read_surface_mesh(path);
-    } catch (const pipeline::Error& e) {
-      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
-      return e.what();
-    }
-    return "no error";
+  auto message_of = [](const std::string& path) {
+    return bad_input_message([&] { pipeline::read_surface_mesh(path); });
   };
   const std::string header = "ply\nformat ascii 1.0\nelement vertex 5\nproperty double x\nproperty double y\n"
                              "property double z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n";
@@ -170,11 +158,6 @@ TEST(read_scan, a_nan_normal_is_bad_input_naming_the_point) {
   c.normals[17] = pipeline::Vector(0, std::nan(""), 1);
   const std::string ply = (scratch_dir() / "nan_normal.ply").string();
   pipeline::write_point_cloud(ply, c);
-  try {
-    pipeline::read_scan(ply);
-    ADD_FAILURE() << "no error";
-  } catch (const pipeline::Error& e) {
-    EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
-    EXPECT_EQ(std::string(e.what()), ply + ": point 17 has a non-finite (NaN or infinite) normal");
-  }
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(ply); }, ply),
+            "point 17 has a non-finite (NaN or infinite) normal");
 }

@@ -14,10 +14,14 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"
+#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
+#include "../bad_input_message.h"
 #include "../niosh_medium_ply.h"
 #include "../file_text.h"
 #include "../last_line.h"
@@ -67,6 +71,33 @@ TEST(segment_head, cheek_areas_symmetric_on_a_symmetric_head) {
   const auto s = layering::segment_head(mesh, layering::internal::read_segment_landmarks(fixture));
   const double l = s[layering::left_cheek].area_mm2, r = s[layering::right_cheek].area_mm2;
   EXPECT_LT(std::abs(l - r) / (0.5 * (l + r)), 0.05);
+}
+
+// Positions, confidences and sides are pipeline::read_landmarks' checks (tests/pipeline); segment
+// adds two of its own, on the fixture with one value changed: a head not y-up, swapped landmarks.
+TEST(read_segment_landmarks, refuses_a_head_upside_down_or_a_pronasale_off_the_profile) {
+  const auto good = nlohmann::json::parse(file_text(fixture));
+  const std::string path = (scratch_dir() / "edited_landmarks.json").string();
+  auto message_with_y = [&](const char* name, double y) {
+    nlohmann::json edited = good;
+    edited["landmarks"][name]["position"][1] = y;
+    pipeline::write_text_atomic(path, edited.dump());
+    return bad_input_message([&] { layering::internal::read_segment_landmarks(path); }, path);
+  };
+  const double sellion_y = good["landmarks"]["sellion"]["position"][1].get<double>();
+  EXPECT_EQ(message_with_y("sellion", sellion_y), "no error");
+  EXPECT_EQ(message_with_y("menton", sellion_y - 20).rfind("menton y ", 0), 0u);
+  EXPECT_NE(message_with_y("menton", sellion_y - 20).find(" not at least 30 mm below sellion y "), std::string::npos);
+  EXPECT_EQ(message_with_y("pronasale", sellion_y + 5),
+            "pronasale y " + pipeline::format_number(sellion_y + 5) +
+                " not between menton and sellion: are the landmarks swapped?");
+  // and the shared reader's checks reach segment's callers
+  nlohmann::json mirrored = good;
+  mirrored["landmarks"]["tragion_left"]["position"][0] = -70;
+  pipeline::write_text_atomic(path, mirrored.dump());
+  EXPECT_EQ(bad_input_message([&] { layering::internal::read_segment_landmarks(path); }, path)
+                .rfind("landmark tragion_left: x = -70, expected > 0", 0),
+            0u);
 }
 
 TEST(segment_cli, writes_labelled_ply_and_rejects_bad_input) {

@@ -17,6 +17,7 @@
 #include "solve/run.h"
 #include "solve/save_state.h"
 #include "solve/solver.h"
+#include "../bad_input_message.h"
 #include "../scratch_dir.h"
 
 namespace {
@@ -203,13 +204,7 @@ TEST(save_state, damaged_state_files_are_bad_input) {
   auto message_of = [&](const std::string& name, const std::string& content) -> std::string {
     const std::string path = dir + "/" + name;
     pipeline::write_text_atomic(path, content);
-    try {
-      solve::load_state(path);
-    } catch (const pipeline::Error& e) {
-      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
-      return std::string(e.what()).substr(path.size() + 2);  // after "path: "
-    }
-    return "no error";
+    return bad_input_message([&] { solve::load_state(path); }, path);
   };
   EXPECT_EQ(message_of("good.bin", bytes), "no error");
   EXPECT_EQ(message_of("cut.bin", bytes.substr(0, bytes.size() / 2)), "truncated state file");

@@ -8,6 +8,7 @@
 #include "solve/load_model.h"
 #include "solve/make_block.h"
 #include "solve/write_results.h"
+#include "../bad_input_message.h"
 #include "../scratch_dir.h"
 
 namespace {
@@ -55,13 +56,7 @@ TEST(apply_deck, errors_name_the_key) {
   const solve::Model base = solve::make_block({}, {"m", 1e-3, 1, 0.3, false});
   auto message = [&](const std::string& deck) {
     solve::Model m = base;
-    try {
-      solve::apply_deck(m, deck, "d.json");
-    } catch (const pipeline::Error& e) {
-      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return bad_input_message([&] { solve::apply_deck(m, deck, "d.json"); });
   };
   const std::string mat = R"("materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.3}}, "parts": [{"group": "block", "material": "m"}])";
   EXPECT_NE(message("{" + mat + "}").find("control"), std::string::npos);
@@ -88,14 +83,7 @@ TEST(check_model, massless_slave_node_named_by_tag_or_number) {
   m.node_groups["loose"] = {int(loose)};
   m.contacts.push_back({"touch", "loose", "zmax"});
   m.control.end_time = 1;
-  auto message = [](const solve::Model& model) {
-    try {
-      solve::check_model(model);
-    } catch (const pipeline::Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  auto message = [](const solve::Model& model) { return bad_input_message([&] { solve::check_model(model); }); };
   EXPECT_NE(message(m).find("contact 'touch': slave node 1000 belongs to no part"), std::string::npos) << message(m);
   m.node_tags.clear();
   EXPECT_NE(message(m).find("contact 'touch': slave node " + std::to_string(loose + 1) + " belongs to no part"),

@@ -1,0 +1,65 @@
+#include "pipeline/read_landmarks.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/error.h"
+#include "pipeline/read_json.h"
+
+namespace pipeline {
+
+namespace {
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+Landmark landmark_of(const nlohmann::json& v, const std::string& path, const std::string& what) {
+  if (!v.is_object() || !v.contains("position") || !v["position"].is_array() || v["position"].size() != 3)
+    throw bad_input(path, what + ": \"position\" is not [x, y, z]");
+  Landmark l;
+  for (int k = 0; k < 3; ++k) {
+    const auto& c = v["position"][std::size_t(k)];
+    if (!c.is_number() || !std::isfinite(c.get<double>()))
+      throw bad_input(path, what + ": a coordinate is not a finite number");
+    l.position[k] = c.get<double>();
+  }
+  if (v.contains("confidence")) {
+    // A value that is there must be a number: "high" or null was read as 1.
+    const auto& c = v["confidence"];
+    if (!c.is_number()) throw bad_input(path, what + ": confidence " + c.dump() + ", expected a number 0..1");
+    l.confidence = c.get<double>();
+    if (!(l.confidence >= 0.0 && l.confidence <= 1.0))
+      throw bad_input(path, what + ": confidence " + format_number(l.confidence) + ", expected 0..1");
+  }
+  return l;
+}
+
+}  // namespace
+
+const std::vector<std::string>& head_landmark_names() {
+  static const std::vector<std::string> names = {"sellion",      "pronasale",    "menton",
+                                                 "zygion_left",  "zygion_right", "tragion_left",
+                                                 "tragion_right", "gonion_left", "gonion_right"};
+  return names;
+}
+
+std::map<std::string, Landmark> read_landmarks(const std::string& path, const std::vector<std::string>& required) {
+  const nlohmann::json j = read_json(path);
+  if (!j.is_object() || !j.contains("landmarks") || !j["landmarks"].is_object())
+    throw bad_input(path, "no \"landmarks\" object");
+  std::map<std::string, Landmark> out;
+  for (const auto& [name, v] : j["landmarks"].items()) out[name] = landmark_of(v, path, "landmark " + name);
+  for (const auto& name : required)
+    if (!out.count(name)) throw bad_input(path, "landmark " + name + " missing");
+  for (const auto& [name, l] : out) {
+    const bool left = ends_with(name, "_left"), right = ends_with(name, "_right");
+    if ((left && !(l.position.x() > 0.0)) || (right && !(l.position.x() < 0.0)))
+      throw bad_input(path, "landmark " + name + ": x = " + format_number(l.position.x()) + ", expected " +
+                                (left ? "> 0 (the subject's left is +x)" : "< 0 (the subject's right is -x)") +
+                                ": is the head mirrored, or not aligned?");
+  }
+  return out;
+}
+
+}  // namespace pipeline

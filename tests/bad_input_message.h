@@ -1,0 +1,41 @@
+// Test helper: what a call says about bad input.
+//
+//   std::string bad_input_message(F&& call)
+//   std::string bad_input_message(F&& call, const std::string& path)
+//
+// Input:  call, anything callable with no arguments (a lambda around the function under test);
+//         path, the file the message must name first ("path: ...").
+// Output: the message of the pipeline::Error the call throws; with `path`, the message after
+//         "path: ". "no error" when the call returns.
+//   An error of another kind than bad_input, or a message that does not start with "path: ", is a
+//   test failure (the message is still returned, so the caller's comparison shows it too).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "pipeline/error.h"
+
+template <class F>
+std::string bad_input_message(F&& call) {
+  try {
+    call();
+  } catch (const pipeline::Error& e) {
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input) << e.what();
+    return e.what();
+  }
+  return "no error";
+}
+
+template <class F>
+std::string bad_input_message(F&& call, const std::string& path) {
+  const std::string message = bad_input_message(call);
+  if (message == "no error") return message;
+  const std::string named = path + ": ";
+  if (message.rfind(named, 0) != 0) {
+    ADD_FAILURE() << "the message does not start with \"" << named << "\": " << message;
+    return message;
+  }
+  return message.substr(named.size());
+}
