@@ -18,6 +18,7 @@
 #include <map>
 
 #include "pipeline/error.h"
+#include "scan2cad/internal/number_topology.h"
 
 namespace scan2cad {
 
@@ -530,6 +531,7 @@ std::vector<FitPart> build_part_model(const SurfaceMesh& mesh, const std::string
   try {
     gmsh::model::mesh::createTopology(true, true);
     if (parametrize) gmsh::model::mesh::createGeometry();
+    else internal::number_topology_by_node_tags();  // a rebuilt model would lose the parametrization
   } catch (...) {
     throw pipeline::algorithm_failed("fit", parametrize ? "gmsh cannot parametrize the parts (each must be a disk)"
                                                         : "gmsh cannot build the part topology");

@@ -94,8 +94,10 @@ double min_triangle_gamma(const pipeline::SurfaceMesh& mesh);
 /// Builds the part-wise model in the CURRENT gmsh model (gmsh must be initialized; a model
 /// named "fitted" is added): one discrete surface and one named 2D physical group per part, nodes
 /// shared (one global numbering = vertex index + 1), boundary curves and corner points created
-/// by gmsh (createTopology). If `parametrize`, gmsh also computes each part's parametrization
-/// (createGeometry), needed only to re-mesh the model inside gmsh.
+/// by gmsh (createTopology) and then numbered and directed by node tags
+/// (internal::number_topology_by_node_tags), so the model does not depend on the heap layout. If
+/// `parametrize`, gmsh instead computes each part's parametrization (createGeometry), needed only
+/// to re-mesh the model inside gmsh; the numbering is then gmsh's.
 /// @return the parts, in label order
 /// @throws pipeline::Error(bad_input) as check_parts; Error(algorithm) if gmsh fails
 std::vector<FitPart> build_part_model(const pipeline::SurfaceMesh& mesh, const std::string& kind,

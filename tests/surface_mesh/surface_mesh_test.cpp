@@ -5,9 +5,11 @@
 
 #include <gmsh.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
 
@@ -20,6 +22,7 @@
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
 #include "scan2cad/repair.h"
+#include "../file_text.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
 
@@ -85,11 +88,101 @@ TEST(surface_mesh, niosh_medium_conforming_good_quality_layering_size) {
   EXPECT_EQ(long(used.size()) - long(3 * triangles / 2) + long(triangles), 2);
 }
 
+// gmsh 4.8's createTopology numbered the points and curves between the parts, directed the curves
+// and listed each part's boundary in pointer order: the same fitted head meshed from a relative and
+// from an absolute path gave two surface.msh files. build_part_model renumbers them from the node
+// tags (internal/number_topology.h); this checks each rule on the model it leaves.
+TEST(surface_mesh, points_and_curves_numbered_and_directed_by_node_tags) {
+  const pipeline::SurfaceMesh fitted = fitted_medium();
+  const pipeline::GmshSession gmsh_session;
+  meshing::surface_mesh(fitted, "head", meshing::default_size_mm, meshing::default_back_size_mm);
+  auto nodes_of = [](int dim, int tag) {
+    std::vector<std::size_t> nodes;
+    std::vector<double> xyz, parametric;
+    gmsh::model::mesh::getNodes(nodes, xyz, parametric, dim, tag, false, false);
+    return nodes;
+  };
+  auto lines_of = [](int tag) {
+    std::vector<std::size_t> elements, nodes;
+    gmsh::model::mesh::getElementsByType(1, elements, nodes, tag);
+    return nodes;
+  };
+  gmsh::vectorpair points, curves, surfaces;
+  gmsh::model::getEntities(points, 0);
+  gmsh::model::getEntities(curves, 1);
+  gmsh::model::getEntities(surfaces, 2);
+  ASSERT_GE(points.size(), 2u);  // the five parts meet at corners
+  ASSERT_GE(curves.size(), 4u);
+  std::map<int, std::size_t> point_node;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(points[i].second, int(i) + 1);
+    const auto nodes = nodes_of(0, points[i].second);
+    ASSERT_EQ(nodes.size(), 1u);
+    point_node[points[i].second] = nodes[0];
+    if (i > 0) {
+      EXPECT_LT(point_node[points[i - 1].second], nodes[0]) << "point " << points[i].second;
+    }
+  }
+  std::vector<std::size_t> previous_key;
+  std::map<int, std::pair<std::size_t, std::size_t>> first_line;
+  for (const auto& [dim, tag] : curves) {
+    SCOPED_TRACE("curve " + std::to_string(tag));
+    const auto lines = lines_of(tag);
+    ASSERT_GE(lines.size(), 2u);
+    std::vector<std::size_t> key = lines;  // its node tags in increasing order
+    std::sort(key.begin(), key.end());
+    key.erase(std::unique(key.begin(), key.end()), key.end());
+    EXPECT_GT(key, previous_key) << "curves numbered by their node tags";
+    previous_key = key;
+    for (std::size_t k = 2; k + 1 < lines.size(); k += 2) EXPECT_EQ(lines[k], lines[k - 1]) << "lines walk the curve";
+    std::vector<int> up, ends;
+    gmsh::model::getAdjacencies(1, tag, up, ends);
+    ASSERT_EQ(ends.size(), 2u);
+    if (ends[0] != ends[1]) {
+      EXPECT_LT(point_node.at(ends[0]), point_node.at(ends[1]));
+      EXPECT_EQ(lines.front(), point_node.at(ends[0]));
+      EXPECT_EQ(lines.back(), point_node.at(ends[1]));
+    }
+    const auto own = nodes_of(1, tag);
+    EXPECT_TRUE(std::is_sorted(own.begin(), own.end()));
+    first_line[tag] = {lines[0], lines[1]};
+  }
+  std::map<int, std::vector<int>> signs;  // curve → its sign in each surface that it bounds
+  for (const auto& [dim, tag] : surfaces) {
+    SCOPED_TRACE("surface " + std::to_string(tag));
+    std::vector<std::size_t> elements, triangles;
+    gmsh::model::mesh::getElementsByType(2, elements, triangles, tag);
+    std::set<std::pair<std::size_t, std::size_t>> half_edges;
+    for (std::size_t k = 0; k + 2 < triangles.size(); k += 3)
+      for (std::size_t j = 0; j < 3; ++j) half_edges.insert({triangles[k + j], triangles[k + (j + 1) % 3]});
+    gmsh::vectorpair boundary;
+    gmsh::model::getBoundary({{2, tag}}, boundary, false, true, false);
+    int previous = 0;
+    for (const auto& [curve_dim, curve] : boundary) {
+      EXPECT_GT(std::abs(curve), previous) << "boundary in tag order";
+      previous = std::abs(curve);
+      EXPECT_EQ(curve > 0, half_edges.count(first_line.at(std::abs(curve))) == 1) << "curve " << curve;
+      signs[std::abs(curve)].push_back(curve > 0 ? 1 : -1);
+    }
+  }
+  for (const auto& [curve, s] : signs) {  // a closed head: every curve between two parts, run both ways
+    ASSERT_EQ(s.size(), 2u) << "curve " << curve;
+    EXPECT_EQ(s[0] + s[1], 0) << "curve " << curve;
+  }
+}
+
 TEST(surface_mesh_cli, writes_msh_meshio_reads_and_fails_cleanly) {
   const std::string fitted = (dir / "fitted.ply").string(), out = (dir / "surface.msh").string();
   pipeline::write_surface_mesh(fitted, fitted_medium());
   const std::string bin = std::string(BIN_DIR) + "/surface_mesh --in " + fitted + " --out ";
   ASSERT_EQ(run_command(bin + out + " 2>/dev/null"), 0);
+  // The same input named by a relative path, from another folder: the same bytes (the two runs
+  // gave two surface.msh files with points 4 and 5 swapped before number_topology_by_node_tags).
+  const std::string relative = (dir / "relative.msh").string();
+  ASSERT_EQ(run_command("cd " + dir.string() + " && " + std::string(BIN_DIR) +
+                        "/surface_mesh --in fitted.ply --out relative.msh 2>/dev/null"),
+            0);
+  EXPECT_EQ(file_text(relative), file_text(out));
   const std::string check = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + out +
                             "'); assert set(m.cell_sets) >= {'forehead','left_cheek','right_cheek','chin','back_of_head'}\"";
   EXPECT_EQ(std::system(check.c_str()), 0);
