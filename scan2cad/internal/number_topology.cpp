@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <map>
 #include <set>
@@ -26,19 +27,25 @@ struct Entity {
   std::vector<std::vector<std::size_t>> elements, element_nodes;
 };
 
+void sort_nodes(Entity& e) {
+  std::vector<std::size_t> order(e.nodes.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return e.nodes[a] < e.nodes[b]; });
+  std::vector<std::size_t> nodes;
+  std::vector<double> xyz;
+  for (std::size_t i : order) {
+    nodes.push_back(e.nodes[i]);
+    xyz.insert(xyz.end(), e.xyz.begin() + 3 * long(i), e.xyz.begin() + 3 * long(i) + 3);
+  }
+  e.nodes = std::move(nodes), e.xyz = std::move(xyz);
+}
+
 Entity read_entity(int dim, int tag) {
   Entity e;
   e.dim = dim, e.tag = tag;
-  std::vector<std::size_t> nodes;
-  std::vector<double> xyz, parametric;
-  gmsh::model::mesh::getNodes(nodes, xyz, parametric, dim, tag, false, false);
-  std::vector<std::size_t> order(nodes.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return nodes[a] < nodes[b]; });
-  for (std::size_t i : order) {
-    e.nodes.push_back(nodes[i]);
-    e.xyz.insert(e.xyz.end(), xyz.begin() + 3 * long(i), xyz.begin() + 3 * long(i) + 3);
-  }
+  std::vector<double> parametric;
+  gmsh::model::mesh::getNodes(e.nodes, e.xyz, parametric, dim, tag, false, false);
+  sort_nodes(e);
   gmsh::model::mesh::getElements(e.types, e.elements, e.element_nodes, dim, tag);
   if (dim == 1) {  // (begin, end); getBoundary gives a curve's two points one sign, not their order
     std::vector<int> up;
@@ -59,6 +66,43 @@ std::vector<std::size_t> node_key(const Entity& e) {
   std::sort(key.begin(), key.end());
   key.erase(std::unique(key.begin(), key.end()), key.end());
   return key;
+}
+
+std::size_t smallest_line_node(const Entity& curve) {
+  std::size_t smallest = SIZE_MAX;
+  for (std::size_t t = 0; t < curve.types.size(); ++t)
+    if (curve.types[t] == line_type)
+      for (std::size_t n : curve.element_nodes[t]) smallest = std::min(smallest, n);
+  return smallest;
+}
+
+// createTopology puts the one point of a closed curve (a respirator's rim, a loop between two
+// parts) on a node of its choosing, also by address: the point moves to the curve's smallest
+// node, where its lines will start, and the node it held joins the curve's own. A point another
+// curve also ends at stays where it is.
+void move_closed_curve_points(std::vector<Entity>& entities) {
+  std::map<std::pair<int, int>, std::size_t> at;  // (dim, tag) → index
+  std::map<int, int> curves_ending_at;            // point tag → curves that end there
+  for (std::size_t i = 0; i < entities.size(); ++i) {
+    at[{entities[i].dim, entities[i].tag}] = i;
+    if (entities[i].dim == 1)
+      for (int p : std::set<int>(entities[i].boundary.begin(), entities[i].boundary.end())) ++curves_ending_at[p];
+  }
+  for (Entity& curve : entities) {
+    if (curve.dim != 1 || curve.boundary.size() != 2 || curve.boundary[0] != curve.boundary[1]) continue;
+    const auto p = at.find({0, curve.boundary[0]});
+    if (p == at.end() || curves_ending_at[curve.boundary[0]] != 1) continue;
+    Entity& point = entities[p->second];
+    const std::size_t smallest = smallest_line_node(curve);
+    const auto own = std::find(curve.nodes.begin(), curve.nodes.end(), smallest);
+    if (point.nodes.size() != 1 || own == curve.nodes.end()) continue;
+    const std::size_t i = std::size_t(own - curve.nodes.begin());
+    std::swap(point.nodes[0], curve.nodes[i]);
+    for (int k = 0; k < 3; ++k) std::swap(point.xyz[std::size_t(k)], curve.xyz[3 * i + std::size_t(k)]);
+    for (auto& nodes : point.element_nodes)
+      for (std::size_t& n : nodes) n = point.nodes[0];
+    sort_nodes(curve);
+  }
 }
 
 using Neighbours = std::map<std::size_t, std::vector<std::size_t>>;
@@ -94,19 +138,19 @@ std::pair<std::size_t, std::size_t> direct_curve(Entity& curve, const std::map<i
     if (curve.types[t] != line_type || curve.element_nodes[t].empty()) continue;
     std::vector<std::size_t>& lines = curve.element_nodes[t];
     Neighbours neighbours = neighbours_along(lines);
-    std::size_t start = 0;
+    std::size_t start = smallest_line_node(curve);  // closed: its point is there (move_closed_curve_points)
+    bool swap_ends = false;
     if (curve.boundary.size() == 2 && curve.boundary[0] != curve.boundary[1]) {
-      if (point_node.at(curve.boundary[0]) > point_node.at(curve.boundary[1]))
-        std::swap(curve.boundary[0], curve.boundary[1]);
-      start = point_node.at(curve.boundary[0]);
-    } else {
-      start = *std::min_element(lines.begin(), lines.end());
+      const std::size_t begin = point_node.at(curve.boundary[0]), end = point_node.at(curve.boundary[1]);
+      swap_ends = begin > end;
+      start = std::min(begin, end);
     }
     const auto& first = neighbours[start];
     if (first.empty()) return {0, 0};
     const std::vector<std::size_t> walked =
         walk(neighbours, lines.size(), start, *std::min_element(first.begin(), first.end()));
     if (walked.empty()) return {0, 0};
+    if (swap_ends) std::swap(curve.boundary[0], curve.boundary[1]);
     lines = walked;
     std::sort(curve.elements[t].begin(), curve.elements[t].end());
     return {walked[0], walked[1]};
@@ -121,6 +165,7 @@ void number_topology_by_node_tags() {
   gmsh::model::getEntities(dim_tags);
   std::vector<Entity> entities;
   for (const auto& [dim, tag] : dim_tags) entities.push_back(read_entity(dim, tag));
+  move_closed_curve_points(entities);
 
   std::map<std::pair<int, int>, int> new_tag;  // (dim, old tag) → tag; surfaces keep theirs
   for (int dim : {0, 1}) {

@@ -9,8 +9,9 @@ namespace scan2cad::internal {
 /// memory:
 ///   - points are numbered by their node's tag, curves by the node tags on them in increasing
 ///     order, compared as words (the smallest first; curves meeting at a corner share it);
-///   - a curve runs from its end point of smaller node tag (a closed one from its smallest node
-///     toward the smaller of that node's two neighbours), its lines in that order;
+///   - a curve runs from its end point of smaller node tag, its lines in that order; a closed one
+///     has its point moved to its smallest node (unless another curve ends there too) and runs
+///     from it toward the smaller of that node's two neighbours;
 ///   - a surface lists its boundary curves in tag order, each signed + when it runs along the
 ///     surface's triangles;
 ///   - every entity lists its nodes in tag order. Surfaces keep their tags; element tags stay.
