@@ -19,23 +19,23 @@ MshFile read_open_model(const std::string& path) {
   std::vector<double> xyz, param;
   gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, false, false);
   if (tags.empty()) throw bad_input(path, "no nodes (empty, or not a gmsh mesh)");
-  // Tag → where gmsh lists it first (a node on an entity's boundary may be listed once per entity).
-  std::map<std::size_t, std::size_t> first;
-  for (std::size_t i = 0; i < tags.size(); ++i) first.emplace(tags[i], i);
+  // Tag → where gmsh lists it first (a node on an entity's boundary may be listed once per
+  // entity), then → its index in f once it is stored there.
+  std::map<std::size_t, std::size_t> index;
+  for (std::size_t i = 0; i < tags.size(); ++i) index.emplace(tags[i], i);
   // The nodes in tag order, not gmsh's: gmsh lists them entity by entity, and createTopology
   // numbers the curve and point entities of surface_mesh's output in pointer order, so the same
   // surface read from another path listed its nodes in another order and layers wrote a
   // permuted model. Tags are the writer's and do not move.
-  std::map<std::size_t, int> index;
-  for (const auto& [tag, i] : first) {
+  for (auto& [tag, i] : index) {
     // Checked here because a NaN node slips through every later geometric test (comparisons
     // with NaN are false) and surfaces as thinning failures or a floating-point trap.
     for (int k = 0; k < 3; ++k)
       if (!std::isfinite(xyz[3 * i + k]))
         throw bad_input(path, "node " + std::to_string(tag) + " has a non-finite coordinate");
-    index.emplace_hint(index.end(), tag, int(f.node_tags.size()));
-    f.node_tags.push_back(tag);
     f.xyz.insert(f.xyz.end(), xyz.begin() + 3 * long(i), xyz.begin() + 3 * long(i) + 3);
+    i = f.node_tags.size();
+    f.node_tags.push_back(tag);
   }
   gmsh::vectorpair groups;
   gmsh::model::getPhysicalGroups(groups);
@@ -64,7 +64,7 @@ MshFile read_open_model(const std::string& path) {
           if (it == index.end())
             throw bad_input(path, "an element of group " + (g.name.empty() ? std::to_string(tag) : g.name) +
                                       " uses missing node " + std::to_string(n));
-          block.conn.push_back(it->second);
+          block.conn.push_back(int(it->second));
         }
         g.elements.push_back(std::move(block));
       }

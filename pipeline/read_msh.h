@@ -3,8 +3,9 @@
 ///
 /// Input:  path of a .msh file, any version or encoding gmsh reads (2.2, 4.x, ASCII or binary).
 /// Output: MshFile: every node once, in increasing tag order (not gmsh's entity order, which can
-///         change between runs: read_msh.cpp), with its file tag and coordinates; every physical group in gmsh's order with its elements, one block per
-///         entity and element type, as 0-based indices into the nodes.
+///         change between runs: read_msh.cpp), with its file tag and coordinates; every physical
+///         group in gmsh's order with its elements, one block per entity and element type, as
+///         0-based indices into the nodes.
 /// Throws pipeline::Error(bad_input) naming the file when it is missing, a directory, empty,
 /// unreadable by gmsh, an ASCII file with a section not closed (gmsh skips the rest of the file
 /// silently), without nodes, or has a node with a NaN or infinite coordinate or an element on a
