@@ -38,7 +38,7 @@ build: deps $(BUILD)/CMakeCache.txt
 
 # ctest runs JOBS tests at once, one per core, so each test gets one OpenMP thread (unless
 # OMP_NUM_THREADS is set): two-thread tests beside another test spun their threads on a busy core
-# (paired runs of all 172 tests: contact_hertz 125 s with two threads, 78 s with one; the whole
+# (paired runs of the 172 tests there were then: contact_hertz 125 s with two threads, 78 s with one; the whole
 # ctest 572 s -> 478 s wall). Tests that compare thread counts set them themselves.
 TEST_ENV := OMP_NUM_THREADS=$${OMP_NUM_THREADS:-1}
 

@@ -102,7 +102,8 @@ struct LayerReport {
 /// @return model with nodes (skin nodes first, same order as the input), one wedge block per
 ///   part × tissue ("<part>_<material>", "_layer" suffix dropped; respirator: "respirator_seal",
 ///   "respirator_outer"), the shell blocks unchanged, and surfaces: head — "head_skin" (all outer
-///   triangles, outward), "<part>_skin_surface", "<part>_bone_inner"; respirator — "respirator_inner".
+///   triangles, outward), "<part>_skin_surface", "<part>_bone_inner"; respirator — "respirator_inner" and
+///   "respirator_rim" (the inner face's border, lines; straps attach to it).
 /// @throws Error(bad_input) no part with a stack, a non-triangle block, or a skin triangle whose own
 ///   shape already has scaled Jacobian < min; Error(algorithm) if the quality or the
 ///   intersection checks still fail after max_fix_iterations reductions.

@@ -2,7 +2,8 @@
 /// Five-part segmentation of an aligned head (paper Fig. 3c) and inner-face extraction of an
 /// aligned respirator shell, for `segment`.
 ///
-/// Head parts (face property "f:part", values of data/materials.json "parts"):
+/// Head parts (face property "f:part"; the labels of the Part enum below, which fit and the
+/// physical group names of surface_mesh follow):
 ///   back_of_head 0, forehead 1, left_cheek 2 (x > 0, subject's left), right_cheek 3, chin 4.
 /// The parts are cut along zero level sets of smooth fields built from the landmarks (planes
 /// blended with a smooth maximum, a parabola, the sagittal plane), so part boundaries are smooth

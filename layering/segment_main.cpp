@@ -8,13 +8,17 @@
 ///   segment --in head/aligned.ply --landmarks head/landmarks.json --out head/segmented.ply
 ///   segment --in respirator/aligned.ply --kind respirator --out respirator/segmented.ply
 #include <cstdio>
+#include <map>
+#include <string>
 
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
+#include "pipeline/read_landmarks.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/require_landmarks_on_surface.h"
 #include "pipeline/units.h"
 #include "pipeline/write_mesh.h"
 
@@ -35,9 +39,14 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("segment", 0);
     // 2. Load
     layering::HeadLandmarks lm;
-    if (kind == "head") lm = layering::internal::read_segment_landmarks(landmarks);
+    std::map<std::string, pipeline::Landmark> points;
+    if (kind == "head") {
+      points = pipeline::read_landmarks(landmarks, pipeline::head_landmark_names());
+      lm = layering::internal::segment_landmarks(points, landmarks);
+    }
     pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(mesh.points()), kind);
+    if (kind == "head") pipeline::require_landmarks_on_surface(points, mesh, landmarks);
     // 3. Segment
     progress.step("segmenting " + std::to_string(mesh.number_of_faces()) + " faces");
     std::vector<layering::PartStats> stats;

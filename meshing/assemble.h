@@ -32,7 +32,7 @@ struct PlaceOptions {
 /// in the canonical frame (x lateral, y up, z out of the face), so the respirator's vertical plane
 /// is already parallel to the coronal plane. x: rim's symmetry plane onto the sagittal plane of
 /// sellion/menton; y: rim top at sellion − bridge_offset; z: bisection until the minimum
-/// respirator–skin distance equals gap_mm (±0.01 mm).
+/// respirator–skin distance equals gap_mm (±0.001 mm).
 /// @param head  model with a "head_skin" triangle group (outward) or triangle groups of parts
 /// @param resp  model with a "respirator_inner" group (and "respirator_rim" lines if layered)
 /// @param gap_out  measured minimum gap after placement [mm]
@@ -68,10 +68,19 @@ layering::FeModel assemble_model(const layering::FeModel& head, const layering::
 /// @throws Error(bad_input) naming the entry: "materials.skin.E: expected a number".
 nlohmann::json deck_materials(const nlohmann::json& materials);
 
-/// Stage I's mass-proportional damping [1/ms] from parsed data/materials.json's
-/// "damping": {"stage1_alpha_per_ms": ...}; 0.5 when the file gives none.
+/// The mass-proportional damping [1/ms] of both decks from parsed data/materials.json's
+/// "damping": {"stage1_alpha_per_ms": ...}; 0.5 when the file gives none. The paper gives it for
+/// stage I (c = 0.5 m … 3 m); stage II uses it too until the simulation issue settles stage II's
+/// damping (the paper's stage II has viscous contact damping 2·m·ω·v instead, meshing/README.md).
 /// @throws Error(bad_input) "damping.stage1_alpha_per_ms: ..." unless a finite number >= 0.
 double stage1_damping_alpha(const nlohmann::json& materials);
+
+/// The penalty scale s (contact stiffness k = s·m/Δt², DESIGN.md) of every contact pair of both
+/// decks, from parsed data/materials.json's "contact": {"penalty_scale": ...}; 0.1 when the file
+/// gives none.
+/// @throws Error(bad_input) "contact.penalty_scale: ..." unless a number in (0, 1], the range solve
+///         accepts.
+double contact_penalty_scale(const nlohmann::json& materials);
 
 /// Solver deck (solve/README.md) for stage 1 (strap wrapping, head and respirator fixed, strap ends
 /// pulled to the attachment points in 0–100 ms, held to 200 ms) or stage 2 (respirator released,

@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
     const auto mat = pipeline::read_json(materials);
     pipeline::naming_file(materials, [&] {  // checked before the placement's work
       meshing::deck_materials(mat);
+      meshing::contact_penalty_scale(mat);
       return meshing::stage1_damping_alpha(mat);
     });
     meshing::require_landmarks_near_skin(h, lm, landmarks);

@@ -16,8 +16,9 @@
 namespace meshing {
 
 /// The CLI defaults. Face parts / respirator: chosen so that the layered generated medium head
-/// lands near the paper's 13,570 pentahedra - its chain (make case=medium_onesize) gives 13,484
-/// wedges at 6.4 mm (13,998 at 6.3, 11,208 at 7). back_of_head is a rigid shell with no wedges, so
+/// lands near the paper's 13,570 pentahedra - its chain (make case=medium_onesize) gave 13,484
+/// wedges at 6.4 mm when chosen (2026-11-23), 13,049 on 2026-12-06 (13,350 at 6.3, 13,571 at
+/// 6.25, 10,814 at 7). back_of_head is a rigid shell with no wedges, so
 /// it stays coarser; 7 vs 6.4 leaves the cut's triangles good (gamma >= 0.5 on all six heads).
 inline constexpr double default_size_mm = 6.4;
 inline constexpr double default_back_size_mm = 7.0;

@@ -52,9 +52,4 @@ std::string landmarks_json(const Landmarks& l);
 /// @throws pipeline::Error(bad_input) naming `path` and the first problem.
 Landmarks read_landmarks(const std::string& path);
 
-/// Checks that every landmark lies within `tolerance_mm` of the surface.
-/// @throws pipeline::Error(bad_input) naming `what` and the landmark otherwise.
-void check_landmarks_on_surface(const Landmarks& l, const pipeline::SurfaceMesh& head, const std::string& what,
-                                double tolerance_mm = 10.0);
-
 }  // namespace scan2cad

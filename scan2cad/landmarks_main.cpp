@@ -16,6 +16,7 @@
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/require_landmarks_on_surface.h"
 #include "pipeline/units.h"
 #include "scan2cad/landmarks.h"
 
@@ -40,7 +41,7 @@ int main(int argc, char** argv) {
                      name.c_str(), l.points.at(name).confidence, out.c_str());
     } else {
       l = scan2cad::read_landmarks(user);
-      scan2cad::check_landmarks_on_surface(l, head, user);
+      pipeline::require_landmarks_on_surface(l.points, head, user);
     }
     // 3. Write atomically
     pipeline::write_text_atomic(out, scan2cad::landmarks_json(l));

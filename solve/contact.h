@@ -1,8 +1,11 @@
 #pragma once
-/// Penalty node-to-surface contact (DESIGN.md, physics): slave nodes against a master surface of
-/// triangles, spring stiffness k = s·m/Δt² and viscous contact damping 2·m·ω·v along the master
-/// normal, optional Coulomb friction. The search is re-run as the bodies move and scales as
-/// n log n or better. This header is the interface between the time integrator and contact.
+/// Penalty contact (DESIGN.md, physics): a slave side against a master surface of triangles, as
+/// node-to-surface points or, when the slave group is a surface, as points integrated over its
+/// facets (segment-to-surface, ContactSpec::slave_tris); spring stiffness k = s·m*/Δt² with m* the
+/// reduced mass of the slave and master points (DESIGN.md's m is the master's mass: contact.cpp
+/// says why), viscous contact damping 2·ξ·m*·ω·v along the master normal (ξ = damping_ratio, 0
+/// unless the deck sets it), optional Coulomb friction. The search is re-run as the bodies move and
+/// scales as n log n or better. This header is the interface between the time integrator and contact.
 #include <array>
 #include <string>
 #include <vector>
@@ -17,7 +20,7 @@ struct ContactSpec {
   std::vector<int> slave_nodes;                ///< slave node ids (respirator inner surface, strap nodes)
   std::vector<std::array<int, 3>> master_tris; ///< master facets (head skin); outward normal by the right-hand rule
   double penalty_scale = 0.1;                  ///< s in k = s·m/Δt² (the paper: 0.1), range (0, 1]
-  double damping_ratio = 0.0;                  ///< ξ of the viscous contact damping 2·m·ω·v, ω = √(k/m); range [0, 1]
+  double damping_ratio = 0.0;                  ///< ξ of the viscous contact damping 2·ξ·m*·ω·v, ω = √(k/m*); range [0, 1]
   double friction = 0.0;                       ///< Coulomb coefficient μ ≥ 0 (0: frictionless)
   bool two_sided = false;                      ///< thin shells: slaves are pushed out on either side
   /// Slave surface facets (node ids, every corner a slave node; the Solver fills them when the

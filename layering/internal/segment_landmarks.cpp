@@ -5,10 +5,11 @@
 
 namespace layering::internal {
 
-HeadLandmarks read_segment_landmarks(const std::string& path) {
-  const auto lm = pipeline::read_landmarks(path, pipeline::head_landmark_names());
+HeadLandmarks segment_landmarks(const std::map<std::string, pipeline::Landmark>& lm, const std::string& path) {
   auto point = [&](const char* name) -> Vec3 {
-    const Eigen::Vector3d& p = lm.at(name).position;
+    const auto it = lm.find(name);
+    if (it == lm.end()) throw pipeline::bad_input(path, std::string("landmark ") + name + " missing");
+    const Eigen::Vector3d& p = it->second.position;
     return {p.x(), p.y(), p.z()};
   };
   HeadLandmarks s;
@@ -30,6 +31,10 @@ HeadLandmarks read_segment_landmarks(const std::string& path) {
     throw pipeline::bad_input(path, "pronasale y " + pipeline::format_number(s.pronasale[1]) +
                                         " not between menton and sellion: are the landmarks swapped?");
   return s;
+}
+
+HeadLandmarks read_segment_landmarks(const std::string& path) {
+  return segment_landmarks(pipeline::read_landmarks(path, pipeline::head_landmark_names()), path);
 }
 
 }  // namespace layering::internal

@@ -73,15 +73,35 @@ nlohmann::json deck_materials(const nlohmann::json& mat) {
   return out;
 }
 
+namespace {
+
+// `mat[section][key]` of data/materials.json, or `fallback` when the file has neither; a value
+// that is there must be a number `valid` accepts.
+double optional_setting(const nlohmann::json& mat, const char* section, const char* key, double fallback,
+                        bool (*valid)(double), const char* expected) {
+  if (!mat.contains(section)) return fallback;
+  const auto& s = mat[section];
+  if (!s.is_object()) throw pipeline::bad_input(section, "expected an object");
+  if (!s.contains(key)) return fallback;
+  const auto& v = s[key];
+  if (!v.is_number() || !valid(v.get<double>()))
+    throw pipeline::bad_input(std::string(section) + "." + key, std::string("expected ") + expected);
+  return v.get<double>();
+}
+
+}  // namespace
+
 double stage1_damping_alpha(const nlohmann::json& mat) {
-  if (!mat.contains("damping")) return 0.5;
-  const auto& d = mat["damping"];
-  if (!d.is_object()) throw pipeline::bad_input("damping", "expected an object");
-  if (!d.contains("stage1_alpha_per_ms")) return 0.5;
-  const auto& alpha = d["stage1_alpha_per_ms"];
-  if (!alpha.is_number() || !(alpha.get<double>() >= 0) || !std::isfinite(alpha.get<double>()))
-    throw pipeline::bad_input("damping.stage1_alpha_per_ms", "expected a number >= 0 [1/ms]");
-  return alpha.get<double>();
+  return optional_setting(
+      mat, "damping", "stage1_alpha_per_ms", 0.5, [](double a) { return std::isfinite(a) && a >= 0; },
+      "a number >= 0 [1/ms]");
+}
+
+double contact_penalty_scale(const nlohmann::json& mat) {
+  // The range solve accepts (solve/contact.h), so a bad value stops here, before the decks.
+  return optional_setting(
+      mat, "contact", "penalty_scale", 0.1, [](double s) { return s > 0 && s <= 1; },
+      "a number in (0, 1] (s of the contact stiffness k = s m / dt^2)");
 }
 
 nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, int stage, double strap_t,
@@ -116,8 +136,11 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
   d["parts"] = parts;
   for (const auto& g : bones) fixed.push_back({{"group", g}, {"dofs", "xyz"}});
   json contact = json::array();
+  const double penalty_scale = contact_penalty_scale(mat);
   for (const char* s : {"strap_top", "strap_bottom"})
-    if (m.find(s)) contact.push_back({{"name", std::string(s) + "_on_head"}, {"slave", s}, {"master", "head_skin"}});
+    if (m.find(s))
+      contact.push_back({{"name", std::string(s) + "_on_head"}, {"slave", s}, {"master", "head_skin"},
+                         {"penalty_scale", penalty_scale}});
   const double alpha = stage1_damping_alpha(mat);
   if (stage == 1) {
     // Head and respirator held; each strap end moves with constant speed to its attachment
@@ -157,7 +180,8 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
           ties.push_back({{"name", end + "_to_respirator"}, {"group_a", end}, {"group_b", att}, {"tolerance", 5.0}});
       }
     d["ties"] = ties;
-    contact.push_back({{"name", "respirator_on_face"}, {"slave", "respirator_inner"}, {"master", "head_skin"}});
+    contact.push_back({{"name", "respirator_on_face"}, {"slave", "respirator_inner"}, {"master", "head_skin"},
+                       {"penalty_scale", penalty_scale}});
     d["initial_state"] = {{"file", stage1_state}, {"reset_time", true}, {"reset_velocity", true}};
     d["control"] = {{"end_time", 150.0}, {"damping_alpha", alpha}, {"output_interval", 10.0}};
     d["output"] = {{"history_groups", json::array()}};

@@ -1,4 +1,4 @@
-// scan2cad::detect_landmarks and check_landmarks_on_surface (declared in landmarks.h).
+// scan2cad::detect_landmarks (declared in landmarks.h).
 //
 // Why by hand: no library detects facial landmarks on a mesh. The geometry is simple and
 // written here: the midline profile is the mesh's section by x = 0; lateral landmarks are
@@ -412,17 +412,6 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
     }
   }
   return L;
-}
-
-void check_landmarks_on_surface(const Landmarks& l, const SurfaceMesh& head, const std::string& what, double tol) {
-  Tree tree(faces(head).first, faces(head).second, head);
-  tree.accelerate_distance_queries();
-  for (const auto& [name, p] : l.points) {
-    const double d = std::sqrt(tree.squared_distance(pipeline::Point(p.position.x(), p.position.y(), p.position.z())));
-    if (d > tol)
-      throw pipeline::bad_input(what, "landmark " + name + " is " + pipeline::format_number(d) + " mm from the head surface, expected <= " +
-                                          pipeline::format_number(tol) + " mm (same frame as the aligned head?)");
-  }
 }
 
 }  // namespace scan2cad

@@ -177,7 +177,10 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   for (const auto* d : {&d1, &d2}) {
     for (const auto& p : (*d)["parts"]) EXPECT_NE(model.find(p["group"]), nullptr) << p;
     for (const auto& p : (*d)["fixed"]) EXPECT_NE(model.find(p["group"]), nullptr) << p;
-    for (const auto& c : (*d)["contact"]) EXPECT_NE(model.find(c["slave"]), nullptr) << c;
+    for (const auto& c : (*d)["contact"]) {
+      EXPECT_NE(model.find(c["slave"]), nullptr) << c;
+      EXPECT_EQ(c.value("penalty_scale", 0.0), mat["contact"]["penalty_scale"].get<double>()) << c;
+    }
   }
   EXPECT_EQ(d1["prescribed"].size(), 12u);  // 4 strap ends × 3 directions
   EXPECT_EQ(d1["output"]["history_groups"].size(), 4u) << d1["output"];  // a force history per strap end
@@ -275,6 +278,37 @@ TEST(read_landmarks, refuses_a_bad_position_or_a_landmark_off_the_skin) {
   const std::string off = message_of({menton.x(), menton.y(), menton.z() + 100});
   EXPECT_EQ(off.rfind("landmark menton at (", 0), 0u) << off;
   EXPECT_NE(off.find(" mm from the head's skin, expected <= 20 mm"), std::string::npos) << off;
+}
+
+// The contact and damping settings of data/materials.json reach the decks (the contact block was
+// in the file but read by nothing: the decks carried solve's default), and a bad one is refused
+// before any deck is written.
+TEST(deck_settings, penalty_scale_and_damping_from_the_file_or_their_defaults) {
+  const auto good = nlohmann::json::parse(pipeline::read_text(kMaterials));
+  EXPECT_EQ(meshing::contact_penalty_scale(good), good["contact"]["penalty_scale"].get<double>());
+  EXPECT_EQ(meshing::stage1_damping_alpha(good), good["damping"]["stage1_alpha_per_ms"].get<double>());
+  nlohmann::json none = good;
+  none.erase("contact");
+  none["damping"].erase("stage1_alpha_per_ms");
+  EXPECT_EQ(meshing::contact_penalty_scale(none), 0.1);
+  EXPECT_EQ(meshing::stage1_damping_alpha(none), 0.5);
+  auto message_of = [&](const char* section, const char* key, const nlohmann::json& value) {
+    nlohmann::json bad = good;
+    bad[section][key] = value;
+    return bad_input_message([&] {
+      meshing::contact_penalty_scale(bad);
+      meshing::stage1_damping_alpha(bad);
+    });
+  };
+  const std::string scale_range = "contact.penalty_scale: expected a number in (0, 1] (s of the contact stiffness k = s m / dt^2)";
+  EXPECT_EQ(message_of("contact", "penalty_scale", 0), scale_range);
+  EXPECT_EQ(message_of("contact", "penalty_scale", 2), scale_range);
+  EXPECT_EQ(message_of("contact", "penalty_scale", "0.1"), scale_range);
+  EXPECT_EQ(message_of("contact", "penalty_scale", 0.25), "no error");
+  EXPECT_EQ(message_of("damping", "stage1_alpha_per_ms", -1), "damping.stage1_alpha_per_ms: expected a number >= 0 [1/ms]");
+  nlohmann::json not_object = good;
+  not_object["contact"] = 0.1;
+  EXPECT_EQ(bad_input_message([&] { meshing::contact_penalty_scale(not_object); }), "contact: expected an object");
 }
 
 // Each material of data/materials.json is checked as solve checks a deck's: a value that is not a

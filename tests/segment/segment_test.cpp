@@ -125,6 +125,28 @@ TEST(segment_cli, a_head_given_as_a_respirator_is_rejected_naming_the_file) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Landmarks of another frame (here the fixture moved 40 mm forward, as if picked on the raw scan
+// of a head that align then moved) used to cut the head at the wrong places without a word.
+TEST(segment_cli, landmarks_off_the_head_are_refused_naming_the_file) {
+  const std::string ply = niosh_medium_ply();
+  const std::string dir = fs::path(ply).parent_path(), moved = dir + "/moved_landmarks.json",
+                    out = dir + "/moved_segmented.ply", err = dir + "/moved_err.txt";
+  auto lm = nlohmann::json::parse(file_text(fixture));
+  for (auto& [name, l] : lm["landmarks"].items()) l["position"][2] = l["position"][2].get<double>() + 40;
+  pipeline::write_text_atomic(moved, lm.dump());
+  EXPECT_EQ(run_command(std::string(BIN_DIR) + "/segment --in " + ply + " --landmarks " + moved + " --out " + out +
+                        " 2> " + err),
+            2);
+  const std::string last = last_line_of(err);
+  // the first landmark, by name, that is too far: the gonia and the pronasale moved 40 mm along z
+  // come back near the cheeks and the face; the menton lands 20.4 mm in front of the chin
+  EXPECT_EQ(last.rfind("segment: " + moved + ": landmark menton is 20.4", 0), 0u) << last;
+  EXPECT_NE(last.find(" mm from the head surface, expected <= 10 mm (same frame as the aligned head?)"),
+            std::string::npos)
+      << last;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 namespace {
 
 // A 20 mm cube, 12 triangles, two per face, labelled with the five parts and back_of_head again.
