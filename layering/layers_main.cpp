@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
       .option("-j", "--min-jacobian", &opt.min_scaled_jacobian, "minimum scaled Jacobian of every wedge", 0.01, 0.9)
       .option("-r", "--report", &report_path, "optional JSON report (counts, quality, volumes)");
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--in", in}, {"--materials", materials}, {"--out", out}, {"--report", report_path}});
     // 1. Options (run_main has logged them).
     pipeline::require_extension("--out", out, {".msh"});
     opt.kind = kind;

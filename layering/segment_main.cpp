@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   cli.option("-o", "--out", &out, "segmented mesh (.ply, face property 'part')", pipeline::required);
   cli.option("-k", "--kind", &kind, "head | respirator (default head)");
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--in", in}, {"--landmarks", landmarks}, {"--out", out}});
     // 1. Options
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");

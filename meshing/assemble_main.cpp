@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
       .option("-b", "--bridge-offset-mm", &opt.bridge_offset_mm, "rim top below the sellion [mm]", -30, 60)
       .option("-t", "--strap-thickness-mm", &strap_t, "strap shell thickness [mm]", 0.1, 5);
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--head", head}, {"--respirator", resp}, {"--straps", straps}, {"--landmarks", landmarks},
+                                      {"--materials", materials}, {"--out", out}, {"--deck1", deck1}, {"--deck2", deck2}});
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
     const auto h = layering::read_fe_model(head);

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
       .option("-t", "--thickness-mm", &opt.thickness_mm, "strap thickness [mm]", 0.1, 5)
       .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20);
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--head", head}, {"--landmarks", landmarks}, {"--respirator", resp}, {"--out", out}});
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
     const auto h = layering::read_fe_model(head);

@@ -7,18 +7,17 @@
 /// Sample runs:
 ///   surface_mesh --in head/fitted.ply --out head/surface.msh
 ///   surface_mesh --in respirator/fitted.ply --kind respirator --size 3 --out respirator/surface.msh
-#include <gmsh.h>
 
 #include <cstdio>
 
 #include "meshing/surface_mesh.h"
-#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/units.h"
+#include "pipeline/write_gmsh_model.h"
 
 int main(int argc, char** argv) {
   std::string in, out, kind = "head";
@@ -31,6 +30,7 @@ int main(int argc, char** argv) {
   cli.option("-b", "--back-size", &back_mm, "edge length on back_of_head [mm] (default 7: a rigid shell, no wedges; much coarser than --size gives poor triangles at the cut)", 0.5, 50.0);
   cli.option("-g", "--min-gamma", &min_gamma, "fail below this triangle quality (default 0.3)", 0.0, 1.0);
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     pipeline::require_extension("--out", out, {".msh"});
@@ -49,11 +49,7 @@ int main(int argc, char** argv) {
       pipeline::log("surface_mesh", line);
       total += p.triangles;
     }
-    pipeline::write_atomic(out, [](const std::string& tmp) {
-      gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-      gmsh::option::setNumber("Mesh.Binary", 0);
-      gmsh::write(tmp);
-    });
+    pipeline::write_gmsh_model(out);
     progress.finish("wrote " + out + " (" + std::to_string(total) + " triangles)");
     return 0;
   });

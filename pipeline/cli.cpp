@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "pipeline/error.h"
@@ -145,6 +146,21 @@ void require_extension(const std::string& option, const std::string& path, const
   for (std::size_t i = 0; i < extensions.size(); ++i)
     list += (i == 0 ? "" : i + 1 == extensions.size() ? " or " : ", ") + extensions[i];
   throw Error(ErrorKind::usage, option + ": '" + path + "' must end in " + list);
+}
+
+void require_distinct_files(const std::vector<std::pair<std::string, std::string>>& files) {
+  namespace fs = std::filesystem;
+  auto same = [](const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::equivalent(a, b, ec)) return true;  // both exist: hard and symbolic links too
+    const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec), ec), cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
+    return !ec && ca == cb;
+  };
+  for (std::size_t i = 0; i < files.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (!files[i].second.empty() && !files[j].second.empty() && same(files[i].second, files[j].second))
+        throw Error(ErrorKind::usage, files[i].first + " '" + files[i].second + "' is the same file as " +
+                                          files[j].first + ": an output must not replace an input or another output");
 }
 
 int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) {

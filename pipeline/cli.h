@@ -66,6 +66,16 @@ class Cli {
 /// @throws Error(usage) "--out: 'x.txt' must end in .ply, .off, .obj or .stl" otherwise.
 void require_extension(const std::string& option, const std::string& path, const std::vector<std::string>& extensions);
 
+/// Checks, before any work, that no two file options of a stage name the same file: `--out` equal
+/// to `--in` replaced the scan with the stage's result, and `--report` equal to `--out`, or
+/// `--deck1` equal to `--materials`, wrote one over the other, all with exit 0. Paths are compared
+/// as files (`./a.ply`, `a.ply` and a link to it are one file); empty paths (options not given)
+/// are skipped.
+/// @param[in] files  (long flag, path) of every option that names a file the stage reads or writes
+/// @throws Error(usage) "--out 'a.ply' is the same file as --in: an output must not replace an
+///         input or another output"
+void require_distinct_files(const std::vector<std::pair<std::string, std::string>>& files);
+
 /// Parses the command line, runs `body` and maps exceptions to exit codes:
 /// usage 1, bad input 2, algorithm 3, I/O 4 (pipeline::Error kinds); other exceptions 3.
 /// Each error is one line on stderr: "program: message", and for a usage error

@@ -7,11 +7,9 @@
 /// Sample runs:
 ///   fit --in head/segmented.ply --out head/fitted.ply
 ///   fit --in respirator/segmented.ply --kind respirator --out respirator/fitted.ply
-#include <gmsh.h>
 
 #include <cstdio>
 
-#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
@@ -19,6 +17,7 @@
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/units.h"
+#include "pipeline/write_gmsh_model.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
 
@@ -33,6 +32,7 @@ int main(int argc, char** argv) {
   cli.option("-r", "--refine-above", &refine_above_mm,
              "heads: remesh at edge/2 where the uniform fit misses the input by more than this [mm] (default 0.5; 0 = off)", 0.0, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
     // 1. Options and input
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
@@ -65,11 +65,7 @@ int main(int argc, char** argv) {
     } else {
       pipeline::GmshSession session;
       scan2cad::build_part_model(fitted, kind, false);
-      pipeline::write_atomic(out, [](const std::string& tmp) {
-        gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-        gmsh::option::setNumber("Mesh.Binary", 0);
-        gmsh::write(tmp);
-      });
+      pipeline::write_gmsh_model(out);
     }
     progress.finish("wrote " + out + " (" + std::to_string(fitted.number_of_faces()) + " triangles)");
     return 0;

@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
              "own-side refit: a neighbour is on a point's side when their normals' cosine exceeds this", -1.0, 1.0);
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
     opt.density_reference_points = std::size_t(density_points);
     opt.refit_on_own_side = !no_refit;
     opt.projection_onto_unsmoothed = !onto_smoothed;

@@ -152,21 +152,32 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     }
     progress.update(std::size_t(s.steps() - step0), "t = " + fmt(s.time()) + " ms");
   }
-  // 4. Outputs, atomically; results.msh only now that the run is sound.
-  save_state((dir / "state.bin").string(), s.state());
-  pipeline::write_text_atomic((dir / "energy.csv").string(), energy_csv);
-  pipeline::write_text_atomic((dir / "forces.csv").string(), forces_csv);
-  if (opt.write_results) {
-    frames.close();
-    pipeline::write_atomic((dir / "results.msh").string(), [&](const std::string& tmp) {
-      write_mesh_msh(m, tmp);
-      std::ofstream out(tmp, std::ios::app);
-      std::ifstream in(frames_path);
-      out << in.rdbuf();
-      if (!out) throw pipeline::io_failed(tmp, "write failed");
-    });
+  // 4. Outputs, now that the run is sound: each atomic, and all or none, results.msh (the largest)
+  // first, so that a full disk leaves no state.bin or CSV beside missing results.
+  if (frames.is_open()) frames.close();
+  const std::string results = (dir / "results.msh").string();
+  try {
+    pipeline::write_all_or_none(
+        {{opt.write_results ? results : "",
+          [&] {
+            write_mesh_msh(m, results, [&](const std::string& tmp) {
+              // A short copy (disk full) leaves a frame cut in two, which write_mesh_msh's check finds.
+              if (fs::file_size(frames_path, ec) == 0) return;
+              std::ofstream out(tmp, std::ios::app | std::ios::binary);
+              std::ifstream in(frames_path, std::ios::binary);
+              out << in.rdbuf();
+              out.flush();
+              if (!out) throw pipeline::io_failed(results, "write failed");
+            });
+          }},
+         {(dir / "state.bin").string(), [&] { save_state((dir / "state.bin").string(), s.state()); }},
+         {(dir / "energy.csv").string(), [&] { pipeline::write_text_atomic((dir / "energy.csv").string(), energy_csv); }},
+         {(dir / "forces.csv").string(), [&] { pipeline::write_text_atomic((dir / "forces.csv").string(), forces_csv); }}});
+  } catch (...) {
     fs::remove(frames_path, ec);
+    throw;
   }
+  fs::remove(frames_path, ec);
   for (const char* f : {"diverged_state.bin", "diverged_energy.csv"}) fs::remove(dir / f, ec);
   sum.time = s.time();
   sum.steps = s.steps() - step0;

@@ -6,6 +6,7 @@
 
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
+#include "pipeline/write_gmsh_model.h"
 
 namespace solve {
 namespace {
@@ -21,7 +22,7 @@ int gmsh_type(ElementType t) {
 }
 }  // namespace
 
-void write_mesh_msh(const Model& m, const std::string& path) {
+void write_mesh_msh(const Model& m, const std::string& path, const std::function<void(const std::string&)>& append) {
   try {
     pipeline::GmshSession session;
     gmsh::model::add("results");
@@ -57,12 +58,9 @@ void write_mesh_msh(const Model& m, const std::string& path) {
       const int pg = gmsh::model::addPhysicalGroup(2, {ent});
       gmsh::model::setPhysicalName(2, pg, name);
     }
-    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-    gmsh::option::setNumber("Mesh.Binary", 0);
-    gmsh::option::setNumber("Mesh.SaveAll", 0);
-    gmsh::write(path);
+    pipeline::write_gmsh_model(path, append);
   } catch (const std::string& e) {
-    throw pipeline::io_failed(path, "gmsh cannot write the mesh: " + e);
+    throw pipeline::io_failed(path, "gmsh cannot build the mesh: " + e);
   }
 }
 

@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
       .flag("-0", "--no-model-holes", &rq.no_model_holes, "generated models: no holes under the chin / in the ears")
       .option("-S", "--seed", &seed, "random seed (same seed, same bytes)", 0, 9007199254740992.0);
   return pipeline::run_main(cli, argc, argv, [&] {
+    pipeline::require_distinct_files({{"--params", rq.params_path}, {"--from-mesh", rq.mesh_path}, {"--out", out},
+                                      {"--clean-mesh", clean_mesh}, {"--holes-out", holes_out}});
     // 1. Resolve options.
     pipeline::require_extension("--out", out, pipeline::point_cloud_extensions);
     if (!clean_mesh.empty()) pipeline::require_extension("--clean-mesh", clean_mesh, pipeline::surface_mesh_extensions);

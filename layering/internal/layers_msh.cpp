@@ -6,11 +6,11 @@
 #include <nlohmann/json.hpp>
 
 #include "layering/layers.h"
-#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
 #include "pipeline/read_json.h"
 #include "pipeline/read_msh.h"
+#include "pipeline/write_gmsh_model.h"
 
 namespace layering {
 namespace {
@@ -59,7 +59,7 @@ FeModel read_fe_model(const std::string& path) {
 }
 
 void write_fe_model(const FeModel& m, const std::string& path) {
-  pipeline::write_atomic(path, [&](const std::string& tmp) {
+  {
     pipeline::GmshSession session;
     gmsh::model::add("model");
     // Nodes live on the first block of the highest dimension; elements of any block refer to them.
@@ -86,11 +86,8 @@ void write_fe_model(const FeModel& m, const std::string& path) {
       gmsh::model::addPhysicalGroup(b.dim, {int(i) + 1}, int(i) + 1);
       gmsh::model::setPhysicalName(b.dim, int(i) + 1, b.name);
     }
-    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-    gmsh::option::setNumber("Mesh.Binary", 0);
-    gmsh::option::setNumber("Mesh.SaveAll", 0);
-    gmsh::write(tmp);
-  });
+    pipeline::write_gmsh_model(path);
+  }
 }
 
 std::map<std::string, Stack> read_stacks(const std::string& materials_json, const std::string& kind) {

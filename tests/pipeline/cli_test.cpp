@@ -1,4 +1,11 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
@@ -107,4 +114,31 @@ TEST(require_extension, accepts_the_listed_endings_in_any_case_and_names_the_res
   EXPECT_EQ(message("dir/", {".ply", ".xyz"}), "--out: 'dir/' must end in .ply or .xyz");
   EXPECT_EQ(message("x.ply.tmp", {".ply", ".off", ".obj", ".stl"}),
             "--out: 'x.ply.tmp' must end in .ply, .off, .obj or .stl");
+}
+
+TEST(require_distinct_files, the_same_file_under_two_options_is_a_usage_error) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("require_distinct_files_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "sub");
+  const std::string a = (dir / "a.ply").string(), b = (dir / "b.ply").string(), link = (dir / "link.ply").string();
+  std::ofstream(a) << "ply";
+  fs::create_symlink(a, link);
+  const auto message = [](const std::vector<std::pair<std::string, std::string>>& files) {
+    try {
+      pipeline::require_distinct_files(files);
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::usage);
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message({{"--in", a}, {"--out", b}, {"--report", ""}, {"--user", ""}}), "accepted");
+  EXPECT_EQ(message({{"--in", a}, {"--out", a}}),
+            "--out '" + a + "' is the same file as --in: an output must not replace an input or another output");
+  EXPECT_EQ(message({{"--in", a}, {"--out", b}, {"--report", b}}).rfind("--report '" + b + "' is the same file as --out", 0), 0u);
+  EXPECT_EQ(message({{"--in", link}, {"--out", a}}).rfind("--out '" + a + "' is the same file as --in", 0), 0u);
+  // spelled differently, and not written yet
+  const std::string other_spelling = (dir / "sub" / ".." / "b.ply").string();
+  EXPECT_EQ(message({{"--out", b}, {"--report", other_spelling}}).rfind("--report '" + other_spelling + "' is the same file as --out", 0), 0u);
+  fs::remove_all(dir);
 }

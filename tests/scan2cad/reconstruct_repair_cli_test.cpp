@@ -67,6 +67,18 @@ pipeline::PointCloud niosh_cloud(double scale) {
 
 }  // namespace
 
+// --out equal to --in replaced the scan with the result, exit 0; now refused before any work.
+TEST(repair_cli, an_output_over_its_input_is_refused_and_the_input_kept) {
+  fs::create_directories(dir);
+  const std::string in = (dir / "same.stl").string();
+  fs::copy_file(niosh_medium, in, fs::copy_options::overwrite_existing);
+  const CliRun r = run("repair --in " + in + " --out " + in);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(last_line(r.err), "repair: --out '" + in + "' is the same file as --in: an output must not replace an " +
+                                  "input or another output (see 'repair --help')");
+  EXPECT_EQ(file_text(in), file_text(niosh_medium));
+}
+
 TEST(reconstruct_cli, missing_file_is_rejected) { expect_rejected("reconstruct", (dir / "nope.ply").string(), "no such file"); }
 
 TEST(reconstruct_cli, empty_file_is_rejected) { expect_rejected("reconstruct", scratch_file("empty.ply", ""), "empty"); }
