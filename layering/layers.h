@@ -51,6 +51,21 @@ using Stack = std::vector<std::pair<std::string, double>>;
 /// returned under the part name "respirator_inner"). @throws Error(bad_input) naming the file.
 std::map<std::string, Stack> read_stacks(const std::string& materials_json, const std::string& kind);
 
+/// Checks that the surface's parts and the stacks match one to one: every part with a stack is a
+/// triangle group of `surface`, and every triangle group but back_of_head (a rigid shell) has a
+/// stack. A chin group renamed, or a chin missing from head_layers_mm, gave a head with no chin
+/// layers and exit 0.
+/// @throws Error(bad_input) naming `surface_path` for a missing group, `materials_path` for a
+///         missing stack.
+void require_stack_for_every_part(const FeModel& surface, const std::map<std::string, Stack>& stacks,
+                                  const std::string& surface_path, const std::string& materials_path);
+
+/// Parses `layers --elements-per-tissue` ("fat=3,skin=2"): each name a material of `stacks`, each
+/// count an integer in [1, 20] (the range of --elements-per-layer), no name twice.
+/// @throws Error(usage) "--elements-per-tissue: 'fat=2.5', expected material=N with N an integer
+///         1..20" or "... 'unobtainium=2': no layer of unobtainium in the stacks".
+std::map<std::string, int> parse_elements_per_tissue(const std::string& text, const std::map<std::string, Stack>& stacks);
+
 struct LayerOptions {
   std::string kind = "head";   ///< "head" (offset inward) or "respirator" (offset away from the face, +z)
   int elements_per_layer = 1;  ///< element layers through each tissue, [1, 20]

@@ -11,7 +11,6 @@
 //   layers --in build/cases/medium_onesize/head/surface.msh --materials data/materials.json --out layers.msh
 //   layers --in respirator/surface.msh --materials data/materials.json --kind respirator --out resp.msh
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "layering/layers.h"
 #include "pipeline/atomic_write.h"
@@ -38,17 +37,12 @@ int main(int argc, char** argv) {
     // 1. Options (run_main has logged them).
     pipeline::require_extension("--out", out, {".msh"});
     opt.kind = kind;
-    std::stringstream ss(per_tissue);
-    for (std::string item; std::getline(ss, item, ',');) {
-      const auto eq = item.find('=');
-      if (eq == std::string::npos || std::atoi(item.c_str() + eq + 1) < 1)
-        throw pipeline::Error(pipeline::ErrorKind::usage, "--elements-per-tissue: '" + item + "', expected material=N");
-      opt.elements_per_tissue[item.substr(0, eq)] = std::atoi(item.c_str() + eq + 1);
-    }
     // 2. Load surface and stacks.
     const auto stacks = layering::read_stacks(materials, kind);
+    opt.elements_per_tissue = layering::parse_elements_per_tissue(per_tissue, stacks);
     const layering::FeModel surface = layering::read_fe_model(in);
     pipeline::require_mm(in, pipeline::largest_extent(surface.nodes), kind);
+    layering::require_stack_for_every_part(surface, stacks, in, materials);
     // 3. Layers.
     layering::LayerReport rep;
     const layering::FeModel model =

@@ -104,6 +104,20 @@ Tris head_surface(const FeModel& head) {
   return t;
 }
 
+void require_layered(const FeModel& model, const std::string& path, const std::string& kind) {
+  bool wedges = false;
+  for (const Block& b : model.blocks) wedges = wedges || (b.dim == 3 && b.nodes_per_elem == 6);
+  const std::vector<std::string> needed =
+      kind == "head" ? std::vector<std::string>{"head_skin"} : std::vector<std::string>{"respirator_inner", "respirator_rim"};
+  for (const std::string& g : needed)
+    if (!model.find(g) || !wedges)
+      throw pipeline::bad_input(path, "no " + std::string(wedges ? "group " + g : "wedge layers") + ": not a " + kind +
+                                          " from layers (give layers.msh, not surface.msh)");
+  if (model.find(kind == "head" ? "respirator_inner" : "head_skin") || model.find("strap_top"))
+    throw pipeline::bad_input(path, "holds " + std::string(kind == "head" ? "a respirator" : "a head") +
+                                        " or straps: an assembled model, not a " + kind + " from layers");
+}
+
 void require_landmarks_near_skin(const FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
                                  const std::string& path, double max_mm) {
   const internal::TriangleTree skin(head.nodes, head_surface(head));

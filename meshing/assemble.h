@@ -15,6 +15,13 @@ namespace meshing {
 /// @throws Error(bad_input) naming the file as that reader does, or if sellion or menton is missing.
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
 
+/// Checks that `model`, read from `path`, is what `layers` writes for `kind` ("head" or
+/// "respirator"): wedge layers and the surface groups the later stages use (head_skin;
+/// respirator_inner and respirator_rim), and not an assembled model. A surface.msh given instead
+/// went through assemble with exit 0 and made a model with no tissue that solve refused.
+/// @throws Error(bad_input) naming `path` and what is missing.
+void require_layered(const layering::FeModel& model, const std::string& path, const std::string& kind);
+
 /// Every landmark of `lm` (read from `path`) within `max_mm` of the head's skin (its head_skin
 /// group, else all its triangles). The landmarks stage puts them on the aligned surface, which the
 /// layered skin follows to a few mm; one far off (another head's file, a hand edit in another

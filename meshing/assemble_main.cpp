@@ -42,8 +42,10 @@ int main(int argc, char** argv) {
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
     const auto h = layering::read_fe_model(head);
+    meshing::require_layered(h, head, "head");
     pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");
     const auto r = layering::read_fe_model(resp);
+    meshing::require_layered(r, resp, "respirator");
     pipeline::require_mm(resp, pipeline::largest_extent(r.nodes), "respirator");
     const auto s = layering::read_fe_model(straps);
     pipeline::require_mm(straps, pipeline::largest_extent(s.nodes), "head");  // straps span the head

@@ -28,10 +28,12 @@ int main(int argc, char** argv) {
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
     const auto h = layering::read_fe_model(head);
+    meshing::require_layered(h, head, "head");
     pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");
     const auto lm = meshing::read_landmarks(landmarks);
     meshing::require_landmarks_near_skin(h, lm, landmarks);
     const auto r = layering::read_fe_model(resp);
+    meshing::require_layered(r, resp, "respirator");
     pipeline::require_mm(resp, pipeline::largest_extent(r.nodes), "respirator");
     // 2. Lay the straps.
     meshing::StrapReport rep;

@@ -160,7 +160,7 @@ void require_distinct_files(const std::vector<std::pair<std::string, std::string
     for (std::size_t j = 0; j < i; ++j)
       if (!files[i].second.empty() && !files[j].second.empty() && same(files[i].second, files[j].second))
         throw Error(ErrorKind::usage, files[i].first + " '" + files[i].second + "' is the same file as " +
-                                          files[j].first + ": an output must not replace an input or another output");
+                                          files[j].first + ": each file option needs a file of its own (an output must not replace an input)");
 }
 
 int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) {

@@ -72,8 +72,8 @@ void require_extension(const std::string& option, const std::string& path, const
 /// as files (`./a.ply`, `a.ply` and a link to it are one file); empty paths (options not given)
 /// are skipped.
 /// @param[in] files  (long flag, path) of every option that names a file the stage reads or writes
-/// @throws Error(usage) "--out 'a.ply' is the same file as --in: an output must not replace an
-///         input or another output"
+/// @throws Error(usage) "--out 'a.ply' is the same file as --in: each file option needs a file of
+///         its own (an output must not replace an input)"
 void require_distinct_files(const std::vector<std::pair<std::string, std::string>>& files);
 
 /// Parses the command line, runs `body` and maps exceptions to exit codes:

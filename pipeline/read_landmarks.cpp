@@ -59,6 +59,16 @@ std::map<std::string, Landmark> read_landmarks(const std::string& path, const st
                                 (left ? "> 0 (the subject's left is +x)" : "< 0 (the subject's right is -x)") +
                                 ": is the head mirrored, or not aligned?");
   }
+  // The profile in y (up): a head upside down, or sellion and menton swapped by hand, passed
+  // landmarks --user, straps and assemble (only segment checked it).
+  const auto sel = out.find("sellion"), men = out.find("menton"), prn = out.find("pronasale");
+  if (sel != out.end() && men != out.end() && !(men->second.position.y() < sel->second.position.y() - 30.0))
+    throw bad_input(path, "menton y " + format_number(men->second.position.y()) + " not at least 30 mm below sellion y " +
+                              format_number(sel->second.position.y()) + ": is the head aligned (y up)?");
+  if (sel != out.end() && men != out.end() && prn != out.end() &&
+      !(prn->second.position.y() < sel->second.position.y() && prn->second.position.y() > men->second.position.y()))
+    throw bad_input(path, "pronasale y " + format_number(prn->second.position.y()) +
+                              " not between menton and sellion: are the landmarks swapped?");
   return out;
 }
 

@@ -29,7 +29,8 @@ const std::vector<std::string>& head_landmark_names();
 /// @throws Error(bad_input) naming `path` and the first problem: no "landmarks" object; a position
 ///         that is not three finite numbers; a confidence that is not a number in [0, 1]; a
 ///         required name missing; a "*_left" landmark at x <= 0 or a "*_right" one at x >= 0 (a
-///         mirrored head, or one not in align's frame).
+///         mirrored head, or one not in align's frame); a menton less than 30 mm below the sellion
+///         (a head not y-up, or the two swapped) or a pronasale not between them in y.
 std::map<std::string, Landmark> read_landmarks(const std::string& path, const std::vector<std::string>& required);
 
 }  // namespace pipeline

@@ -2,7 +2,10 @@
 // one discrete entity + one named physical group per block); the reading is pipeline::read_msh's.
 #include <gmsh.h>
 
+#include <algorithm>
+#include <cctype>
 #include <map>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "layering/layers.h"
@@ -119,6 +122,43 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
     out["respirator_inner"] = parse_stack(j["respirator_layers_mm"], "respirator_layers_mm");
   } else {
     throw pipeline::Error(pipeline::ErrorKind::usage, "kind '" + kind + "': expected head or respirator");
+  }
+  return out;
+}
+
+void require_stack_for_every_part(const FeModel& surface, const std::map<std::string, Stack>& stacks,
+                                  const std::string& surface_path, const std::string& materials_path) {
+  for (const auto& [part, stack] : stacks) {
+    const Block* b = surface.find(part);
+    if (!b || b->dim != 2 || b->nodes_per_elem != 3)
+      throw pipeline::bad_input(surface_path, "no triangle group " + part + ", which " + materials_path +
+                                                  " layers (a renamed group, or not surface_mesh's output?)");
+  }
+  for (const Block& b : surface.blocks)
+    if (b.dim == 2 && b.nodes_per_elem == 3 && b.name != "back_of_head" && !stacks.count(b.name))
+      throw pipeline::bad_input(materials_path, "no layer stack for part " + b.name + " of " + surface_path +
+                                                    ": it would stay a bare surface");
+}
+
+std::map<std::string, int> parse_elements_per_tissue(const std::string& text, const std::map<std::string, Stack>& stacks) {
+  std::map<std::string, int> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    const auto eq = item.find('=');
+    const std::string name = item.substr(0, eq), count = eq == std::string::npos ? "" : item.substr(eq + 1);
+    const bool integer = !count.empty() && count.size() <= 2 && std::all_of(count.begin(), count.end(), ::isdigit);
+    const int n = integer ? std::stoi(count) : 0;
+    if (name.empty() || n < 1 || n > 20)
+      throw pipeline::Error(pipeline::ErrorKind::usage,
+                            "--elements-per-tissue: '" + item + "', expected material=N with N an integer 1..20");
+    bool used = false;
+    for (const auto& [part, stack] : stacks)
+      for (const auto& layer : stack) used = used || layer.first == name;
+    if (!used)
+      throw pipeline::Error(pipeline::ErrorKind::usage,
+                            "--elements-per-tissue: '" + item + "': no layer of " + name + " in the stacks");
+    if (!out.emplace(name, n).second)
+      throw pipeline::Error(pipeline::ErrorKind::usage, "--elements-per-tissue: " + name + " given twice");
   }
   return out;
 }

@@ -22,14 +22,6 @@ HeadLandmarks segment_landmarks(const std::map<std::string, pipeline::Landmark>&
   s.tragion_right = point("tragion_right");
   s.gonion_left = point("gonion_left");
   s.gonion_right = point("gonion_right");
-  // Sides are the reader's check; these two catch a head upside down or landmarks swapped.
-  if (s.menton[1] >= s.sellion[1] - 30.0)
-    throw pipeline::bad_input(path, "menton y " + pipeline::format_number(s.menton[1]) +
-                                        " not at least 30 mm below sellion y " +
-                                        pipeline::format_number(s.sellion[1]) + ": is the head aligned (y up)?");
-  if (s.pronasale[1] >= s.sellion[1] || s.pronasale[1] <= s.menton[1])
-    throw pipeline::bad_input(path, "pronasale y " + pipeline::format_number(s.pronasale[1]) +
-                                        " not between menton and sellion: are the landmarks swapped?");
   return s;
 }
 

@@ -10,10 +10,8 @@
 namespace layering::internal {
 
 /// The nine points segmentation needs, from landmarks read by pipeline::read_landmarks (which
-/// checks positions, confidences and sides) from `path`.
-/// @throws pipeline::Error(bad_input) naming `path` if one of the nine is missing, if the menton
-///         is not at least 30 mm below the sellion (a head not y-up), or if the pronasale is not
-///         between them in y (landmarks swapped).
+/// checks positions, confidences, sides and the profile's order in y) from `path`.
+/// @throws pipeline::Error(bad_input) naming `path` if one of the nine is missing.
 HeadLandmarks segment_landmarks(const std::map<std::string, pipeline::Landmark>& landmarks, const std::string& path);
 
 /// segment_landmarks of the file `path`, read with pipeline::read_landmarks.

@@ -223,13 +223,17 @@ TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outp
   const auto dir = scratch_dir() / "assemble_cli";
   std::filesystem::create_directories(dir);
   const std::string out = (dir / "model.msh").string(), d1 = (dir / "d1.json").string(),
-                    d2 = (dir / "d2.json").string(), m = (dir / "m.msh").string();
-  layering::write_fe_model(scene().resp, m);  // a readable model, so the landmarks or materials are what fails
+                    d2 = (dir / "d2.json").string(), head = (dir / "head.msh").string(),
+                    resp = (dir / "resp.msh").string(), straps = (dir / "straps.msh").string();
+  // readable layered models, so the landmarks or materials are what fails
+  layering::write_fe_model(scene().head, head);
+  layering::write_fe_model(scene().resp, resp);
+  layering::write_fe_model(meshing::make_straps(scene().head, scene().lm, scene().resp, {}, nullptr), straps);
   // assemble on `landmarks` and `materials`: exit 2, one error line holding `words`, no outputs.
   auto expect_refused = [&](const std::string& landmarks, const std::string& materials, const std::string& words) {
     for (const auto& f : {out, d1, d2}) std::filesystem::remove(f);
     std::vector<std::string> err;
-    EXPECT_EQ(run_stage("assemble --head " + m + " --respirator " + m + " --straps " + m + " --landmarks " +
+    EXPECT_EQ(run_stage("assemble --head " + head + " --respirator " + resp + " --straps " + straps + " --landmarks " +
                             landmarks + " --materials " + materials + " --out " + out + " --deck1 " + d1 +
                             " --deck2 " + d2,
                         &err),
@@ -335,4 +339,25 @@ TEST(deck_materials, copies_the_materials_and_names_a_bad_entry) {
   EXPECT_EQ(message_of("E", -1), "materials.skin: E must be > 0 and finite [MPa]");
   EXPECT_EQ(message_of("rigid", "yes"), "materials.skin.rigid: expected true or false");
   EXPECT_EQ(message_of("density", 1200).rfind("materials.skin: density 1200 g/mm³ is outside", 0), 0u);
+}
+
+// A surface.msh (no layers) or an assembled model given as the head or the respirator went through
+// assemble with exit 0 and a model without tissue, which solve refused.
+TEST(require_layered, names_a_surface_mesh_or_an_assembled_model) {
+  const auto& s = scene();
+  const std::string path = "in.msh";
+  auto message = [&](const layering::FeModel& m, const char* kind) {
+    return bad_input_message([&] { meshing::require_layered(m, path, kind); }, path);
+  };
+  EXPECT_EQ(message(s.head, "head"), "no error");
+  EXPECT_EQ(message(s.resp, "respirator"), "no error");
+  const auto surface = fixtures::niosh_surface(std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl", 4.0);
+  EXPECT_EQ(message(surface, "head"), "no wedge layers: not a head from layers (give layers.msh, not surface.msh)");
+  EXPECT_EQ(message(s.resp, "head"), "no group head_skin: not a head from layers (give layers.msh, not surface.msh)");
+  EXPECT_EQ(message(s.head, "respirator"),
+            "no group respirator_inner: not a respirator from layers (give layers.msh, not surface.msh)");
+  const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
+  const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, nullptr);
+  EXPECT_EQ(message(model, "head"), "holds a respirator or straps: an assembled model, not a head from layers");
+  EXPECT_EQ(message(model, "respirator"), "holds a head or straps: an assembled model, not a respirator from layers");
 }

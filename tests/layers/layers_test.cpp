@@ -285,3 +285,42 @@ TEST(read_stacks, rejects_absurd_layer_thicknesses) {
   }
   EXPECT_NO_THROW(layering::read_stacks(kMaterials, "head"));
 }
+
+// A chin group renamed in the surface, or the chin missing from head_layers_mm, gave a head
+// without chin layers and exit 0.
+TEST(require_stack_for_every_part, names_a_part_without_a_stack_or_a_stack_without_a_part) {
+  const layering::FeModel surface = fixtures::niosh_surface(kNioshMedium, 6.0);
+  const auto stacks = layering::read_stacks(kMaterials, "head");
+  auto message = [&](const layering::FeModel& s, const std::map<std::string, layering::Stack>& st) {
+    return bad_input_message([&] { layering::require_stack_for_every_part(s, st, "s.msh", "m.json"); });
+  };
+  EXPECT_EQ(message(surface, stacks), "no error");
+  auto no_chin_stack = stacks;
+  no_chin_stack.erase("chin");
+  EXPECT_EQ(message(surface, no_chin_stack), "m.json: no layer stack for part chin of s.msh: it would stay a bare surface");
+  layering::FeModel renamed = surface;
+  for (auto& b : renamed.blocks)
+    if (b.name == "chin") b.name = "jaw";
+  EXPECT_EQ(message(renamed, stacks),
+            "s.msh: no triangle group chin, which m.json layers (a renamed group, or not surface_mesh's output?)");
+}
+
+TEST(parse_elements_per_tissue, takes_materials_of_the_stacks_with_counts_1_to_20) {
+  const auto stacks = layering::read_stacks(kMaterials, "head");
+  EXPECT_EQ(layering::parse_elements_per_tissue("fat=3,skin=20", stacks), (std::map<std::string, int>{{"fat", 3}, {"skin", 20}}));
+  EXPECT_TRUE(layering::parse_elements_per_tissue("", stacks).empty());
+  auto message = [&](const std::string& text) {
+    try {
+      layering::parse_elements_per_tissue(text, stacks);
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::usage);
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  for (const char* bad : {"fat=2.5", "fat=0", "fat=21", "fat=1e9", "fat=", "=3", "fat", "fat=-1"})
+    EXPECT_EQ(message(bad), "--elements-per-tissue: '" + std::string(bad) + "', expected material=N with N an integer 1..20");
+  EXPECT_EQ(message("unobtainium=2"), "--elements-per-tissue: 'unobtainium=2': no layer of unobtainium in the stacks");
+  EXPECT_EQ(message("seal_layer=2"), "--elements-per-tissue: 'seal_layer=2': no layer of seal_layer in the stacks");
+  EXPECT_EQ(message("skin=2,skin=3"), "--elements-per-tissue: skin given twice");
+}

@@ -134,7 +134,7 @@ TEST(require_distinct_files, the_same_file_under_two_options_is_a_usage_error) {
   };
   EXPECT_EQ(message({{"--in", a}, {"--out", b}, {"--report", ""}, {"--user", ""}}), "accepted");
   EXPECT_EQ(message({{"--in", a}, {"--out", a}}),
-            "--out '" + a + "' is the same file as --in: an output must not replace an input or another output");
+            "--out '" + a + "' is the same file as --in: each file option needs a file of its own (an output must not replace an input)");
   EXPECT_EQ(message({{"--in", a}, {"--out", b}, {"--report", b}}).rfind("--report '" + b + "' is the same file as --out", 0), 0u);
   EXPECT_EQ(message({{"--in", link}, {"--out", a}}).rfind("--out '" + a + "' is the same file as --in", 0), 0u);
   // spelled differently, and not written yet

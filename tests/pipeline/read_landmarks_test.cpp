@@ -12,13 +12,15 @@
 
 namespace {
 
-// The nine landmarks of a head, left ones at x = 60, right ones at x = -60, the midline at x = 0.
+// The nine landmarks of a head, left ones at x = 60, right ones at x = -60, the midline at x = 0;
+// sellion at y = 40, pronasale at 0, menton at -70, the others at 10.
 nlohmann::json nine_landmarks() {
   nlohmann::json j;
   j["source"] = "user";
   for (const auto& name : pipeline::head_landmark_names()) {
     const double x = name.find("_left") != std::string::npos ? 60 : name.find("_right") != std::string::npos ? -60 : 0;
-    j["landmarks"][name] = {{"position", {x, 10.0, 80.0}}, {"confidence", 0.8}};
+    const double y = name == "sellion" ? 40 : name == "pronasale" ? 0 : name == "menton" ? -70 : 10;
+    j["landmarks"][name] = {{"position", {x, y, 80.0}}, {"confidence", 0.8}};
   }
   return j;
 }
@@ -103,4 +105,28 @@ TEST(read_landmarks, requires_only_the_names_asked_for) {
   EXPECT_EQ(pipeline::read_landmarks(path, {"sellion", "menton"}).size(), 2u);
   EXPECT_EQ(bad_input_message([&] { pipeline::read_landmarks(path, pipeline::head_landmark_names()); }, path),
             "landmark pronasale missing");  // the first missing in head_landmark_names' order
+}
+
+// The profile's order in y: swapped by hand, or a head upside down, went through landmarks --user,
+// straps and assemble; only segment refused it.
+TEST(read_landmarks, refuses_a_profile_out_of_order_in_y) {
+  auto with_y = [](const std::string& name, double y) {
+    nlohmann::json j = nine_landmarks();
+    j["landmarks"][name]["position"][1] = y;
+    return j;
+  };
+  EXPECT_EQ(message_for(with_y("menton", 10.5)),
+            "menton y 10.5 not at least 30 mm below sellion y 40: is the head aligned (y up)?");
+  nlohmann::json swapped = nine_landmarks();
+  std::swap(swapped["landmarks"]["sellion"], swapped["landmarks"]["menton"]);
+  EXPECT_EQ(message_for(swapped), "menton y 40 not at least 30 mm below sellion y -70: is the head aligned (y up)?");
+  EXPECT_EQ(message_for(with_y("pronasale", 45)), "pronasale y 45 not between menton and sellion: are the landmarks swapped?");
+  EXPECT_EQ(message_for(with_y("pronasale", -80)), "pronasale y -80 not between menton and sellion: are the landmarks swapped?");
+  // only what the file has is compared (straps and assemble need only sellion and menton)
+  nlohmann::json two;
+  two["landmarks"]["sellion"] = {{"position", {0, 40, 80}}};
+  two["landmarks"]["menton"] = {{"position", {0, -70, 80}}};
+  const std::string path = (scratch_dir() / "two.json").string();
+  pipeline::write_text_atomic(path, two.dump());
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_landmarks(path, {"sellion", "menton"}); }, path), "no error");
 }

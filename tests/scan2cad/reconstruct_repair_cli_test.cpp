@@ -74,8 +74,8 @@ TEST(repair_cli, an_output_over_its_input_is_refused_and_the_input_kept) {
   fs::copy_file(niosh_medium, in, fs::copy_options::overwrite_existing);
   const CliRun r = run("repair --in " + in + " --out " + in);
   EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_EQ(last_line(r.err), "repair: --out '" + in + "' is the same file as --in: an output must not replace an " +
-                                  "input or another output (see 'repair --help')");
+  EXPECT_EQ(last_line(r.err), "repair: --out '" + in + "' is the same file as --in: each file option needs a file of its " +
+                                  "own (an output must not replace an input) (see 'repair --help')");
   EXPECT_EQ(file_text(in), file_text(niosh_medium));
 }
 
