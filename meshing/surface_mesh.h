@@ -21,6 +21,9 @@ namespace meshing {
 /// 6.25, 10,814 at 7). back_of_head is a rigid shell with no wedges, so
 /// it stays coarser; 7 vs 6.4 leaves the cut's triangles good (gamma >= 0.5 on all six heads).
 inline constexpr double default_size_mm = 6.4;
+/// The most triangles `surface_mesh` asks for (pipeline::require_affordable_edge): ~100 times the
+/// default head; --size 0.5 on a head (~1.2 million) ran for minutes past 1 GB.
+inline constexpr double max_surface_mesh_triangles = 1e6;
 inline constexpr double default_back_size_mm = 7.0;
 
 struct SurfaceMeshPart {

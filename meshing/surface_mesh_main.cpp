@@ -16,6 +16,7 @@
 #include "pipeline/gmsh_session.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/require_affordable_edge.h"
 #include "pipeline/units.h"
 #include "pipeline/write_gmsh_model.h"
 
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("surface_mesh", 0);
     const pipeline::SurfaceMesh fitted = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(fitted.points()), kind);
+    // the whole surface's area for both: a bound on each
+    pipeline::require_affordable_edge("--size", size_mm, fitted, meshing::max_surface_mesh_triangles);
+    pipeline::require_affordable_edge("--back-size", back_mm, fitted, meshing::max_surface_mesh_triangles);
     pipeline::GmshSession session;
     progress.step("meshing");
     std::size_t total = 0;

@@ -16,6 +16,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -183,9 +184,39 @@ void read_ply(const std::string& path, Scan& scan) {
   }
 }
 
+// An OFF header's vertex and face counts against the file's size: CGAL reserves what the header
+// declares, so a damaged count (2,000,000,000 vertices in a 60-byte file) ended the stage as
+// "internal error: std::bad_alloc", naming no file. ASCII needs at least 6 bytes a vertex
+// ("0 0 0\n") and 8 a triangle ("3 0 1 2\n"); binary OFF more. Counts it cannot parse are left
+// to CGAL's reader.
+void check_off_counts(const std::string& path) {
+  std::ifstream in(path);
+  std::string word;
+  std::vector<double> counts;
+  while (counts.size() < 2 && in >> word) {
+    if (word[0] == '#') {
+      std::getline(in, word);
+      continue;
+    }
+    if (word.find("OFF") != std::string::npos) continue;
+    char* end = nullptr;
+    const double v = std::strtod(word.c_str(), &end);
+    if (*end != '\0') return;
+    counts.push_back(v);
+  }
+  if (counts.size() < 2) return;
+  std::error_code ec;
+  const double bytes = double(std::filesystem::file_size(path, ec));
+  if (!ec && 6 * counts[0] + 8 * counts[1] > bytes)
+    throw bad_input(path, "the OFF header declares " + format_number(counts[0]) + " vertices and " +
+                              format_number(counts[1]) + " faces, more than its " + format_number(bytes) +
+                              " bytes can hold: truncated or damaged");
+}
+
 void read_off(const std::string& path, Scan& scan) {
   const std::string head = first_bytes(path, 4);
   if (head.find("OFF") == std::string::npos) throw bad_input(path, "not an OFF file (no 'OFF' header)");
+  check_off_counts(path);
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
   std::ifstream in(path);

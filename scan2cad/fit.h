@@ -52,6 +52,11 @@ pipeline::SurfaceMesh remesh_parts(const pipeline::SurfaceMesh& segmented, const
 std::size_t mark_border_corners(const pipeline::SurfaceMesh& mesh, double min_turn_deg, double jog_mm,
                                 pipeline::SurfaceMesh::Property_map<pipeline::VertexIndex, bool> corner);
 
+/// The most triangles `fit --edge` may ask for (pipeline::require_affordable_edge): ~10 times a
+/// head at the default 2 mm (~100,000 with the refined places); --edge 0.3 on a head (~3 million)
+/// ran for minutes past 1 GB.
+constexpr double max_fitted_triangles = 1e6;
+
 /// The fit stage. Heads: constrained isotropic remeshing at `edge_mm` as remesh_parts, with the
 /// sharp edges (> 60 deg) kept as constraints too; then, where that uniform surface misses the
 /// input by more than `refine_above_mm` (highly curved places such as the ears: 1.2-1.5 mm at

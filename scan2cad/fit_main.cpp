@@ -16,6 +16,7 @@
 #include "pipeline/lower_extension.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/require_affordable_edge.h"
 #include "pipeline/units.h"
 #include "pipeline/write_gmsh_model.h"
 #include "pipeline/write_mesh.h"
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("fit", 0);
     const pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(mesh.points()), kind);
+    pipeline::require_affordable_edge("--edge", edge_mm, mesh, scan2cad::max_fitted_triangles);
     // 2. Fit
     progress.step("remeshing the parts");
     std::size_t refined_faces = 0;

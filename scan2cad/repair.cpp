@@ -16,6 +16,7 @@
 
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
+#include "pipeline/require_affordable_edge.h"
 #include "scan2cad/internal/cleanup.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -71,22 +72,8 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   mesh.collect_garbage();
   r.degenerate_faces_removed = f0 > mesh.number_of_faces() ? f0 - mesh.number_of_faces() : 0;
   if (mesh.number_of_faces() == 0) throw pipeline::bad_input("mesh", "no usable faces after removing degenerate ones");
-  // An edge far below the surface's scale asks for more triangles than memory holds, and the
-  // remeshing ran until killed (--edge 0.001 on NIOSH medium, 167,890 mm²: ~4e11). Checked before
-  // any work, on the input's area (the hole fills add little); an equilateral triangle of edge e
-  // covers sqrt(3)/4 e².
-  if (opt.target_edge_mm > 0) {
-    const double area_mm2 = PMP::area(mesh);
-    const double triangles = area_mm2 / (std::sqrt(3.0) / 4.0 * opt.target_edge_mm * opt.target_edge_mm);
-    if (triangles > max_remeshed_triangles) {
-      char what[200];
-      std::snprintf(what, sizeof what,
-                    "would make ~%.2g triangles on this %.0f mm2 surface, more than %.0f million: choose a longer edge",
-                    triangles, area_mm2, max_remeshed_triangles / 1e6);
-      throw pipeline::Error(pipeline::ErrorKind::usage,
-                            "--edge " + pipeline::format_number(opt.target_edge_mm) + " mm " + what);
-    }
-  }
+  // Checked before any work, on the input's area (the hole fills add little).
+  pipeline::require_affordable_edge("--edge", opt.target_edge_mm, mesh, max_remeshed_triangles);
 
   // 2. Small components.
   std::tie(r.components_removed, r.component_faces_removed) = internal::keep_largest_component(mesh);

@@ -91,4 +91,12 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
   EXPECT_EQ(line.rfind("fit: " + metres + ": largest extent 0.2", 0), 0u) << line;
   EXPECT_NE(line.find("but a head is about 250 mm: this stage reads mm only"), std::string::npos) << line;
   EXPECT_FALSE(fs::exists(bad));
+  // An edge within the option's range but far below the head's scale ran for minutes past 1 GB;
+  // now a usage error before any work (NIOSH medium, ~168,000 mm2: ~4 million triangles).
+  EXPECT_EQ(run_command(fit + " --in " + seg + " --edge 0.3 --out " + bad + " 2>" + err), 1);
+  const std::string edge_line = last_line_of(err);
+  EXPECT_EQ(edge_line.rfind("fit: --edge 0.3 mm would make ~", 0), 0u) << edge_line;
+  EXPECT_NE(edge_line.find("triangles on this "), std::string::npos) << edge_line;
+  EXPECT_NE(edge_line.find(" mm2 surface, more than 1 million: choose a longer edge"), std::string::npos) << edge_line;
+  EXPECT_FALSE(fs::exists(bad));
 }

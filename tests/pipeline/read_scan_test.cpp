@@ -111,6 +111,14 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
   EXPECT_EQ(message_of(commented), commented + ": unreadable or truncated PLY");
   const std::string last_word = scratch_file("nan_at_end.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 nan");
   EXPECT_EQ(message_of(last_word), last_word + ": line 5: a coordinate is NaN or infinite");
+  // A count the file cannot hold: CGAL reserved it and the stage died of std::bad_alloc.
+  const std::string huge = scratch_file("huge_count.off", "OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(message_of(huge), huge + ": the OFF header declares 2e+09 vertices and 1 faces, more than its 45 bytes can "
+                                     "hold: truncated or damaged");
+  const std::string commented_counts = scratch_file("commented_counts.off", "OFF\n# made by hand\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  pipeline::ScanReadOptions mm;
+  mm.unit = pipeline::Unit::mm;
+  EXPECT_EQ(pipeline::read_scan(commented_counts, mm).soup.polygons.size(), 1u);
 }
 
 // A later stage's input that repair has not made manifold is named as such, apart from a broken

@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "pipeline/error.h"
+#include "pipeline/require_affordable_edge.h"
 #include "pipeline/surface_mesh.h"
 #include "pipeline/units.h"
 #include "../bad_input_message.h"
@@ -83,4 +85,24 @@ TEST(why_material_unusable, accepts_the_paper_materials_and_names_a_unit_slip) {
   EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0, 0.45), "E must be > 0 and finite [MPa]");
   EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0.6, 0.5), "nu must be in [0, 0.5)");
   EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0.6, -0.1), "nu must be in [0, 0.5)");
+}
+
+// pipeline::require_affordable_edge on a 100 mm square (10,000 mm2): an equilateral triangle of
+// edge e covers sqrt(3)/4 e², so the square takes 10,000 / (0.433 e²) of them.
+TEST(require_affordable_edge, refuses_an_edge_that_asks_for_too_many_triangles) {
+  pipeline::SurfaceMesh square;
+  const auto a = square.add_vertex({0, 0, 0}), b = square.add_vertex({100, 0, 0}), c = square.add_vertex({100, 100, 0}),
+             d = square.add_vertex({0, 100, 0});
+  square.add_face(a, b, c);
+  square.add_face(a, c, d);
+  EXPECT_NO_THROW(pipeline::require_affordable_edge("--edge", 0.16, square, 1e6));  // ~902,000
+  EXPECT_NO_THROW(pipeline::require_affordable_edge("--edge", 0, square, 1e6));     // 0: no remeshing
+  try {
+    pipeline::require_affordable_edge("--size", 0.15, square, 1e6);  // ~1,026,000
+    ADD_FAILURE() << "accepted";
+  } catch (const pipeline::Error& e) {
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::usage);
+    EXPECT_EQ(std::string(e.what()),
+              "--size 0.15 mm would make ~1e+06 triangles on this 10000 mm2 surface, more than 1 million: choose a longer edge");
+  }
 }
