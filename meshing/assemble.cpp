@@ -156,7 +156,7 @@ Eigen::Vector3d place_respirator(const FeModel& head, const std::map<std::string
   auto gap = [&](double z) { return gap_with_shift(head, ht, resp, Eigen::Vector3d(s.x(), s.y(), z)); };
   for (int k = 0; k < 100 && gap(near) > opt.gap_mm; ++k) far = near, near -= 4.0;
   if (gap(near) > opt.gap_mm)
-    throw pipeline::algorithm_failed("assemble", "the respirator never comes within the gap of the face");
+    throw pipeline::algorithm_failed("placement", "the respirator never comes within the gap of the face");
   for (int k = 0; k < 40 && far - near > 1e-3; ++k) {
     const double mid = 0.5 * (far + near);
     (gap(mid) > opt.gap_mm ? far : near) = mid;
@@ -225,7 +225,7 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
   r.nodes = out.nodes.size();
   if (report) *report = r;
   if (r.intersecting_pairs || r.gap_mm < opt.gap_mm - 0.01 || r.strap_gap_mm <= 0)
-    throw pipeline::algorithm_failed("assemble", "initial penetration: " + std::to_string(r.intersecting_pairs) +
+    throw pipeline::algorithm_failed("placement", "initial penetration: " + std::to_string(r.intersecting_pairs) +
                                                      " face pairs intersect (" + groups + " ), gap " + pipeline::format_number(r.gap_mm) +
                                                      " mm, strap gap " + pipeline::format_number(r.strap_gap_mm) + " mm");
   return out;

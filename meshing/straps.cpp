@@ -109,7 +109,7 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
         return i;
       }
     }
-    throw pipeline::algorithm_failed("straps", name + ": strap centre is outside the head's section");
+    throw pipeline::algorithm_failed(name, "strap centre is outside the head's section");
   };
   // Chain from the left attachment's ray over the back to the right one's: angles increase from tl
   // to tr, i.e. counter-clockwise, the hull's own order.
@@ -121,7 +121,7 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
     if (i == i1) break;
   }
   if ((end - hull.back()).norm() > 1e-9) hull.push_back(end);
-  if (hull.size() < 2) throw pipeline::algorithm_failed("straps", name + ": empty outline between the attachments");
+  if (hull.size() < 2) throw pipeline::algorithm_failed(name, "empty outline between the attachments");
   // Offset the chain outward by `lift` (Minkowski sum with a disc: shifted segments joined by arcs,
   // no self-intersection on a convex chain), sampled every ~1 mm, back in 3D.
   std::vector<Eigen::Vector2d> off;
@@ -157,7 +157,7 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
     if ((path[i] - back).norm() < (path[ib] - back).norm()) ib = i;
   const double s0 = s[ib] - 0.5 * opt.length_mm, s1 = s[ib] + 0.5 * opt.length_mm;
   if (s0 < 0 || s1 > s.back())
-    throw pipeline::bad_input("straps", name + ": length " + pipeline::format_number(opt.length_mm) + " mm exceeds the head outline between its attachment points (" + pipeline::format_number(s.back()) + " mm)");
+    throw pipeline::bad_input("--length-mm", name + ": length " + pipeline::format_number(opt.length_mm) + " mm exceeds the head outline between its attachment points (" + pipeline::format_number(s.back()) + " mm)");
   const int n = std::max(2, int(std::ceil(opt.length_mm / opt.element_mm)));
   const int base = int(out->nodes.size());
   // Nodes: n+1 stations × 3 across the width (centre and both edges).
@@ -256,7 +256,7 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
     if (push.empty()) break;
     if (pass == 11) {
       const Eigen::Vector3d& q = out.nodes[*push.begin()];
-      throw pipeline::algorithm_failed("straps", std::to_string(push.size()) + " strap nodes still on faces crossing the skin, e.g. near (" +
+      throw pipeline::algorithm_failed("strap layout", std::to_string(push.size()) + " strap nodes still on faces crossing the skin, e.g. near (" +
                                                      pipeline::format_number(q.x()) + ", " + pipeline::format_number(q.y()) + ", " + pipeline::format_number(q.z()) + ") mm");
     }
     for (int v : push) {

@@ -16,6 +16,7 @@
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
+#include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/units.h"
 #include "pipeline/write_mesh.h"
@@ -52,7 +53,7 @@ int main(int argc, char** argv) {
     scan2cad::AlignOptions opt;
     opt.kind = kind;
     opt.samples = samples;
-    const auto res = scan2cad::align(mesh, opt);
+    const auto res = pipeline::naming_file(in, [&] { return scan2cad::align(mesh, opt); });
     scan2cad::apply_transform(mesh, res.transform);
     // 4. Write atomically, both or neither
     pipeline::write_all_or_none(

@@ -14,6 +14,7 @@
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
+#include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/require_landmarks_on_surface.h"
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
     scan2cad::Landmarks l;
     if (user.empty()) {
       progress.step("detecting");
-      l = scan2cad::detect_landmarks(head);
+      l = pipeline::naming_file(in, [&] { return scan2cad::detect_landmarks(head); });
       for (const std::string& name : scan2cad::guessed_landmarks(l))
         std::fprintf(stderr, "landmarks: warning: %s is a guess (confidence %.2f, no clear feature): check %s or give --user\n",
                      name.c_str(), l.points.at(name).confidence, out.c_str());
