@@ -53,12 +53,7 @@ TEST(repair, cleans_a_soup_with_debris_degenerate_faces_and_a_hole) {
 }
 
 TEST(repair, respirator_cup_keeps_its_rim) {
-  auto s = test_meshes::sphere_soup(50, 60);
-  // keep the front half only (z > 0): an open cup
-  std::vector<std::vector<std::size_t>> keep;
-  for (const auto& f : s.polygons)
-    if (s.points[f[0]].z() > 0 && s.points[f[1]].z() > 0 && s.points[f[2]].z() > 0) keep.push_back(f);
-  s.polygons = keep;
+  const auto s = test_meshes::cup_soup(50, 60);
   scan2cad::RepairReport rep;
   const auto m = scan2cad::repair(s, scan2cad::ScanKind::respirator, {}, &rep);
   EXPECT_FALSE(rep.closed);
@@ -71,11 +66,7 @@ TEST(repair, respirator_cup_keeps_its_rim) {
 // hemisphere's area); --smooth 100 --smooth-time 1 took a real respirator down to 18 triangles of
 // 3e-13 mm with exit 0. The default smoothing keeps the cup.
 TEST(repair, smoothing_that_shrinks_the_surface_is_refused) {
-  auto s = test_meshes::sphere_soup(50, 24);
-  std::vector<std::vector<std::size_t>> keep;
-  for (const auto& f : s.polygons)
-    if (s.points[f[0]].z() > 0 && s.points[f[1]].z() > 0 && s.points[f[2]].z() > 0) keep.push_back(f);
-  s.polygons = keep;
+  const auto s = test_meshes::cup_soup(50, 24);
   scan2cad::RepairOptions strong;
   strong.smoothing_iterations = 100;
   strong.smoothing_time = 1;

@@ -2,6 +2,7 @@
 // Small meshes with known geometry for the scan2cad tests.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "pipeline/surface_mesh.h"
 
@@ -29,6 +30,17 @@ inline pipeline::PolygonSoup sphere_soup(double r, int rings) {
       s.polygons.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
   for (int j = 0; j < segs; ++j) s.polygons.push_back({south, id(rings - 1, j + 1), id(rings - 1, j)});
+  return s;
+}
+
+/// The front half (z > 0) of sphere_soup(r, rings): an open cup, a respirator-like shell with one
+/// rim.
+inline pipeline::PolygonSoup cup_soup(double r, int rings) {
+  pipeline::PolygonSoup s = sphere_soup(r, rings);
+  std::vector<std::vector<std::size_t>> keep;
+  for (const auto& f : s.polygons)
+    if (s.points[f[0]].z() > 0 && s.points[f[1]].z() > 0 && s.points[f[2]].z() > 0) keep.push_back(f);
+  s.polygons = keep;
   return s;
 }
 
