@@ -112,7 +112,7 @@ void require_layered(const FeModel& model, const std::string& path, const std::s
   for (const std::string& g : needed)
     if (!model.find(g) || !wedges)
       throw pipeline::bad_input(path, "no " + std::string(wedges ? "group " + g : "wedge layers") + ": not a " + kind +
-                                          " from layers (give layers.msh, not surface.msh)");
+                                          " from layers (a surface.msh, or the other body's layers.msh?)");
   if (model.find(kind == "head" ? "respirator_inner" : "head_skin") || model.find("strap_top"))
     throw pipeline::bad_input(path, "holds " + std::string(kind == "head" ? "a respirator" : "a head") +
                                         " or straps: an assembled model, not a " + kind + " from layers");

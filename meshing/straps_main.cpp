@@ -1,6 +1,6 @@
 // straps — lays the two respirator straps (4-node quad shell bands) on the head.
 //
-// Inputs:  --head layers.msh or surface.msh (head), --landmarks landmarks.json,
+// Inputs:  --head layers.msh (head; checked by meshing::require_layered), --landmarks landmarks.json,
 //          --respirator respirator layers.msh (groups respirator_inner, respirator_rim)
 // Outputs: --out straps.msh (groups strap_top, strap_bottom, strap_*_end_*, strap_*_attach_*)
 // Sample run:

@@ -37,7 +37,10 @@ void require_complete_msh(const std::string& file, const std::string& name) {
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(file, ec);
   throw io_failed(name, "written incompletely (" + std::to_string(ec ? 0 : bytes) + " bytes, " +
-                            (open.empty() ? std::string("no $Nodes and $Elements") : "cut inside $" + open) +
+                            (!open.empty() ? "cut inside $" + open
+                             : !nodes      ? std::string("no $Nodes")
+                             : !elements   ? std::string("no $Elements")
+                                           : std::string("no end line")) +
                             "): disk full or a file size limit?");
 }
 

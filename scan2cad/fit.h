@@ -53,7 +53,7 @@ std::size_t mark_border_corners(const pipeline::SurfaceMesh& mesh, double min_tu
                                 pipeline::SurfaceMesh::Property_map<pipeline::VertexIndex, bool> corner);
 
 /// The most triangles `fit --edge` may ask for (pipeline::require_affordable_edge): ~10 times a
-/// head at the default 2 mm (~100,000 with the refined places); --edge 0.3 on a head (~3 million)
+/// head at the default 2 mm (~100,000 with the refined places); --edge 0.3 on a head (~4 million)
 /// ran for minutes past 1 GB.
 constexpr double max_fitted_triangles = 1e6;
 

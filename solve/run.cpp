@@ -100,16 +100,19 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   long step0 = s.steps();
   SolverState good = s.state();
   RunSummary sum;
-  // The files of a sound run. A diverged run removes those an earlier run left in the same
-  // directory, so none of them can pass for its results (except the state this run started
-  // from: it is the user's input); a sound run removes the diverged_* files of an earlier failure.
+  // The files of a sound run. A run that diverges or cannot write its outputs removes those an
+  // earlier run left in the same directory, so none of them can pass for its results (except the
+  // state this run started from: it is the user's input); a sound run removes the diverged_*
+  // files of an earlier failure.
   const std::string started_from = !opt.restart.empty() ? opt.restart : m.initial_state.file;
-  const char* const sound_outputs[] = {"results.msh", "state.bin", "energy.csv", "forces.csv"};
-  auto fail = [&](const std::string& why) {
+  auto remove_outputs = [&] {
     if (frames.is_open()) frames.close();
     fs::remove(frames_path, ec);
-    for (const char* f : sound_outputs)
+    for (const char* f : {"results.msh", "state.bin", "energy.csv", "forces.csv"})
       if (started_from.empty() || !fs::equivalent(dir / f, started_from, ec)) fs::remove(dir / f, ec);
+  };
+  auto fail = [&](const std::string& why) {
+    remove_outputs();
     const std::string diag = (dir / "diverged_state.bin").string();
     save_state(diag, good);
     pipeline::write_text_atomic((dir / "diverged_energy.csv").string(), energy_csv);
@@ -153,28 +156,37 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     progress.update(std::size_t(s.steps() - step0), "t = " + fmt(s.time()) + " ms");
   }
   // 4. Outputs, now that the run is sound: each atomic, and all or none, results.msh (the largest)
-  // first, so that a full disk leaves no state.bin or CSV beside missing results.
-  if (frames.is_open()) frames.close();
+  // first, so that a full disk leaves no state.bin or CSV beside missing results; state.bin last,
+  // so that a run restarted from <out-dir>/state.bin keeps that file whatever fails before it.
   const std::string results = (dir / "results.msh").string();
   try {
+    if (frames.is_open()) {
+      frames.close();
+      if (!frames) throw pipeline::io_failed(results, "the frames could not be written (disk full?)");
+    }
     pipeline::write_all_or_none(
         {{opt.write_results ? results : "",
           [&] {
             write_mesh_msh(m, results, [&](const std::string& tmp) {
-              // A short copy (disk full) leaves a frame cut in two, which write_mesh_msh's check finds.
-              if (fs::file_size(frames_path, ec) == 0) return;
-              std::ofstream out(tmp, std::ios::app | std::ios::binary);
-              std::ifstream in(frames_path, std::ios::binary);
-              out << in.rdbuf();
-              out.flush();
-              if (!out) throw pipeline::io_failed(results, "write failed");
+              const auto frames_bytes = fs::file_size(frames_path), mesh_bytes = fs::file_size(tmp);
+              if (frames_bytes == 0) return;
+              {
+                std::ofstream out(tmp, std::ios::app | std::ios::binary);
+                std::ifstream in(frames_path, std::ios::binary);
+                out << in.rdbuf();
+              }
+              // `out << rdbuf` reports a short copy only when nothing was copied
+              if (fs::file_size(tmp) != mesh_bytes + frames_bytes)
+                throw pipeline::io_failed(results, "written incompletely (" + std::to_string(fs::file_size(tmp)) +
+                                                       " of " + std::to_string(mesh_bytes + frames_bytes) +
+                                                       " bytes): disk full or a file size limit?");
             });
           }},
-         {(dir / "state.bin").string(), [&] { save_state((dir / "state.bin").string(), s.state()); }},
          {(dir / "energy.csv").string(), [&] { pipeline::write_text_atomic((dir / "energy.csv").string(), energy_csv); }},
-         {(dir / "forces.csv").string(), [&] { pipeline::write_text_atomic((dir / "forces.csv").string(), forces_csv); }}});
+         {(dir / "forces.csv").string(), [&] { pipeline::write_text_atomic((dir / "forces.csv").string(), forces_csv); }},
+         {(dir / "state.bin").string(), [&] { save_state((dir / "state.bin").string(), s.state()); }}});
   } catch (...) {
-    fs::remove(frames_path, ec);
+    remove_outputs();
     throw;
   }
   fs::remove(frames_path, ec);

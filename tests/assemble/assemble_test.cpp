@@ -352,10 +352,10 @@ TEST(require_layered, names_a_surface_mesh_or_an_assembled_model) {
   EXPECT_EQ(message(s.head, "head"), "no error");
   EXPECT_EQ(message(s.resp, "respirator"), "no error");
   const auto surface = fixtures::niosh_surface(std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl", 4.0);
-  EXPECT_EQ(message(surface, "head"), "no wedge layers: not a head from layers (give layers.msh, not surface.msh)");
-  EXPECT_EQ(message(s.resp, "head"), "no group head_skin: not a head from layers (give layers.msh, not surface.msh)");
+  EXPECT_EQ(message(surface, "head"), "no wedge layers: not a head from layers (a surface.msh, or the other body's layers.msh?)");
+  EXPECT_EQ(message(s.resp, "head"), "no group head_skin: not a head from layers (a surface.msh, or the other body's layers.msh?)");
   EXPECT_EQ(message(s.head, "respirator"),
-            "no group respirator_inner: not a respirator from layers (give layers.msh, not surface.msh)");
+            "no group respirator_inner: not a respirator from layers (a surface.msh, or the other body's layers.msh?)");
   const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
   const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, nullptr);
   EXPECT_EQ(message(model, "head"), "holds a respirator or straps: an assembled model, not a head from layers");

@@ -249,7 +249,8 @@ TEST(layers_cli, empty_truncated_or_nan_msh_exits_2_with_one_line_naming_it) {
   without_end_nodes.erase(without_end_nodes.find("$EndNodes\n"), 10);
   const std::tuple<std::string, std::string, std::string> bad[] = {
       {"empty.msh", "", "file is empty"},
-      {"no_elements.msh", head_sized_nodes_only, "surface: part forehead has no triangles"},
+      // (its only group, forehead, has no triangles; the stacks' chin is the first group missing)
+      {"no_elements.msh", head_sized_nodes_only, "no triangle group chin, which "},
       {"no_end_nodes.msh", without_end_nodes, "section $Nodes (line 12) is not closed by $EndNodes"},
       {"truncated.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n", "gmsh cannot read it"},
       {"nan.msh", triangle_with_nan_node, "node 2 has a non-finite coordinate"},

@@ -73,8 +73,8 @@ TEST(segment_head, cheek_areas_symmetric_on_a_symmetric_head) {
   EXPECT_LT(std::abs(l - r) / (0.5 * (l + r)), 0.05);
 }
 
-// Positions, confidences and sides are pipeline::read_landmarks' checks (tests/pipeline); segment
-// adds two of its own, on the fixture with one value changed: a head not y-up, swapped landmarks.
+// The reader's checks reach segment (all are pipeline::read_landmarks', tested in tests/pipeline),
+// on the real fixture with one value changed: a head not y-up, swapped landmarks, a mirrored side.
 TEST(read_segment_landmarks, refuses_a_head_upside_down_or_a_pronasale_off_the_profile) {
   const auto good = nlohmann::json::parse(file_text(fixture));
   const std::string path = (scratch_dir() / "edited_landmarks.json").string();

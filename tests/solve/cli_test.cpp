@@ -79,6 +79,18 @@ TEST(solve_cli, a_file_size_limit_leaves_no_outputs) {
   const std::string err = c.read("err.txt");
   EXPECT_NE(err.find("solve: " + c.dir + "/limited/results.msh: written incompletely ("), std::string::npos) << err;
   EXPECT_TRUE(fs::is_empty(c.dir + "/limited")) << fs::directory_iterator(c.dir + "/limited")->path();
+  // A run restarted from the state in its own output folder keeps that state when its outputs
+  // fail (state.bin is written last), and removes the earlier run's other outputs.
+  ASSERT_EQ(c.solve("deck.json", "again"), 0) << c.read("err.txt");
+  const std::string state = c.read("again/state.bin");
+  c.write("deck2.json", deck(2.0));
+  EXPECT_EQ(c.sh("bash -c \"trap '' XFSZ; ulimit -f 30; exec " + std::string(BIN_DIR) + "/solve --model " + c.dir +
+                 "/block.msh --deck " + c.dir + "/deck2.json --out-dir " + c.dir + "/again --restart " + c.dir +
+                 "/again/state.bin\""),
+            4)
+      << c.read("err.txt");
+  EXPECT_EQ(c.read("again/state.bin"), state);
+  for (const char* f : {"results.msh", "energy.csv", "forces.csv"}) EXPECT_FALSE(fs::exists(c.dir + "/again/" + f)) << f;
 }
 
 TEST(solve_cli, good_run_writes_results_state_and_histories) {
