@@ -107,12 +107,11 @@ Tris head_surface(const FeModel& head) {
 void require_layered(const FeModel& model, const std::string& path, const std::string& kind) {
   bool wedges = false;
   for (const Block& b : model.blocks) wedges = wedges || (b.dim == 3 && b.nodes_per_elem == 6);
-  const std::vector<std::string> needed =
-      kind == "head" ? std::vector<std::string>{"head_skin"} : std::vector<std::string>{"respirator_inner", "respirator_rim"};
-  for (const std::string& g : needed)
-    if (!model.find(g) || !wedges)
-      throw pipeline::bad_input(path, "no " + std::string(wedges ? "group " + g : "wedge layers") + ": not a " + kind +
-                                          " from layers (a surface.msh, or the other body's layers.msh?)");
+  const std::string not_layers = ": not a " + kind + " from layers (a surface.msh, or the other body's layers.msh?)";
+  if (!wedges) throw pipeline::bad_input(path, "no wedge layers" + not_layers);
+  for (const char* g : kind == "head" ? std::vector<const char*>{"head_skin"}
+                                      : std::vector<const char*>{"respirator_inner", "respirator_rim"})
+    if (!model.find(g)) throw pipeline::bad_input(path, std::string("no group ") + g + not_layers);
   if (model.find(kind == "head" ? "respirator_inner" : "head_skin") || model.find("strap_top"))
     throw pipeline::bad_input(path, "holds " + std::string(kind == "head" ? "a respirator" : "a head") +
                                         " or straps: an assembled model, not a " + kind + " from layers");

@@ -62,35 +62,33 @@ FeModel read_fe_model(const std::string& path) {
 }
 
 void write_fe_model(const FeModel& m, const std::string& path) {
-  {
-    pipeline::GmshSession session;
-    gmsh::model::add("model");
-    // Nodes live on the first block of the highest dimension; elements of any block refer to them.
-    int host = 0;
-    for (std::size_t i = 0; i < m.blocks.size(); ++i)
-      if (m.blocks[i].dim > m.blocks[host].dim) host = int(i);
-    for (std::size_t i = 0; i < m.blocks.size(); ++i) gmsh::model::addDiscreteEntity(m.blocks[i].dim, int(i) + 1);
-    std::vector<std::size_t> ntags(m.nodes.size());
-    std::vector<double> xyz(3 * m.nodes.size());
-    for (std::size_t i = 0; i < m.nodes.size(); ++i) {
-      ntags[i] = i + 1;
-      for (int k = 0; k < 3; ++k) xyz[3 * i + k] = m.nodes[i][k];
-    }
-    if (!m.blocks.empty()) gmsh::model::mesh::addNodes(m.blocks[host].dim, host + 1, ntags, xyz);
-    std::size_t next = 1;
-    for (std::size_t i = 0; i < m.blocks.size(); ++i) {
-      const Block& b = m.blocks[i];
-      const int type = gmsh_type(b.dim, b.nodes_per_elem);
-      if (type < 0) throw pipeline::io_failed(path, "block " + b.name + ": unsupported element shape");
-      std::vector<std::size_t> et(b.size()), nt(b.conn.size());
-      for (std::size_t e = 0; e < et.size(); ++e) et[e] = next++;
-      for (std::size_t k = 0; k < nt.size(); ++k) nt[k] = std::size_t(b.conn[k]) + 1;
-      if (!et.empty()) gmsh::model::mesh::addElementsByType(int(i) + 1, type, et, nt);
-      gmsh::model::addPhysicalGroup(b.dim, {int(i) + 1}, int(i) + 1);
-      gmsh::model::setPhysicalName(b.dim, int(i) + 1, b.name);
-    }
-    pipeline::write_gmsh_model(path);
+  pipeline::GmshSession session;
+  gmsh::model::add("model");
+  // Nodes live on the first block of the highest dimension; elements of any block refer to them.
+  int host = 0;
+  for (std::size_t i = 0; i < m.blocks.size(); ++i)
+    if (m.blocks[i].dim > m.blocks[host].dim) host = int(i);
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) gmsh::model::addDiscreteEntity(m.blocks[i].dim, int(i) + 1);
+  std::vector<std::size_t> ntags(m.nodes.size());
+  std::vector<double> xyz(3 * m.nodes.size());
+  for (std::size_t i = 0; i < m.nodes.size(); ++i) {
+    ntags[i] = i + 1;
+    for (int k = 0; k < 3; ++k) xyz[3 * i + k] = m.nodes[i][k];
   }
+  if (!m.blocks.empty()) gmsh::model::mesh::addNodes(m.blocks[host].dim, host + 1, ntags, xyz);
+  std::size_t next = 1;
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) {
+    const Block& b = m.blocks[i];
+    const int type = gmsh_type(b.dim, b.nodes_per_elem);
+    if (type < 0) throw pipeline::io_failed(path, "block " + b.name + ": unsupported element shape");
+    std::vector<std::size_t> et(b.size()), nt(b.conn.size());
+    for (std::size_t e = 0; e < et.size(); ++e) et[e] = next++;
+    for (std::size_t k = 0; k < nt.size(); ++k) nt[k] = std::size_t(b.conn[k]) + 1;
+    if (!et.empty()) gmsh::model::mesh::addElementsByType(int(i) + 1, type, et, nt);
+    gmsh::model::addPhysicalGroup(b.dim, {int(i) + 1}, int(i) + 1);
+    gmsh::model::setPhysicalName(b.dim, int(i) + 1, b.name);
+  }
+  pipeline::write_gmsh_model(path);
 }
 
 std::map<std::string, Stack> read_stacks(const std::string& materials_json, const std::string& kind) {

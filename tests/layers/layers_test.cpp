@@ -311,13 +311,7 @@ TEST(parse_elements_per_tissue, takes_materials_of_the_stacks_with_counts_1_to_2
   EXPECT_EQ(layering::parse_elements_per_tissue("fat=3,skin=20", stacks), (std::map<std::string, int>{{"fat", 3}, {"skin", 20}}));
   EXPECT_TRUE(layering::parse_elements_per_tissue("", stacks).empty());
   auto message = [&](const std::string& text) {
-    try {
-      layering::parse_elements_per_tissue(text, stacks);
-    } catch (const pipeline::Error& e) {
-      EXPECT_EQ(e.kind, pipeline::ErrorKind::usage);
-      return std::string(e.what());
-    }
-    return std::string("accepted");
+    return error_message(pipeline::ErrorKind::usage, [&] { layering::parse_elements_per_tissue(text, stacks); });
   };
   for (const char* bad : {"fat=2.5", "fat=0", "fat=21", "fat=1e9", "fat=", "=3", "fat", "fat=-1"})
     EXPECT_EQ(message(bad), "--elements-per-tissue: '" + std::string(bad) + "', expected material=N with N an integer 1..20");

@@ -14,6 +14,7 @@
 #include "pipeline/gmsh_session.h"
 #include "pipeline/read_msh.h"
 #include "pipeline/write_gmsh_model.h"
+#include "../bad_input_message.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -35,13 +36,7 @@ void write_square(const std::string& path) {
 // The io error's message of `call`, or "no error".
 template <class F>
 std::string io_message(F call) {
-  try {
-    call();
-  } catch (const pipeline::Error& e) {
-    EXPECT_EQ(e.kind, pipeline::ErrorKind::io) << e.what();
-    return e.what();
-  }
-  return "no error";
+  return error_message(pipeline::ErrorKind::io, call);
 }
 
 }  // namespace
