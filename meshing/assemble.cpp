@@ -66,25 +66,62 @@ Tris body_triangles(const FeModel& m) {
   return t;
 }
 
-double gap_with_shift(const FeModel& head, const internal::TriangleTree& head_tree, const FeModel& resp,
-                      const Eigen::Vector3d& s) {
-  double g = 1e300;
-  for (const auto& p : resp.nodes) g = std::min(g, head_tree.signed_distance(p + s));
-  FeModel moved = resp;
-  for (auto& p : moved.nodes) p += s;
-  internal::TriangleTree rt(moved.nodes, body_triangles(moved));
-  // Exact pruning: a skin node farther from the respirator's bounding box than the smallest gap so
-  // far cannot lower it (cuts ~36k distance queries per bisection step to a few hundred).
-  Eigen::Vector3d lo = moved.nodes[0], hi = moved.nodes[0];
-  for (const auto& p : moved.nodes) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  for (const auto& t : head_surface(head))
-    for (int v : t) {
-      const Eigen::Vector3d& q = head.nodes[v];
-      const double box = (q - q.cwiseMax(lo).cwiseMin(hi)).norm();
-      if (box < g) g = std::min(g, rt.distance(q));
+// The gap between the head's skin and the respirator shifted by s: the smallest of the respirator
+// nodes' signed distances to the skin and the skin nodes' distances to the respirator's element
+// faces. Both trees are built once; a shift moves the queries instead (q - s against the respirator
+// at rest), so the bisection of place_respirator does not rebuild the respirator's tree per step.
+class Gap {
+ public:
+  Gap(const FeModel& head, const FeModel& resp)
+      : head_tree_(head.nodes, head_surface(head)), resp_(resp), resp_tree_(resp.nodes, body_triangles(resp)) {
+    std::vector<int> skin;  // the skin's nodes, each once
+    for (const auto& t : head_surface(head)) skin.insert(skin.end(), t.begin(), t.end());
+    std::sort(skin.begin(), skin.end());
+    skin.erase(std::unique(skin.begin(), skin.end()), skin.end());
+    for (int v : skin) skin_points_.push_back(head.nodes[v]);
+    lo_ = hi_ = resp.nodes[0];
+    for (const auto& p : resp.nodes) lo_ = lo_.cwiseMin(p), hi_ = hi_.cwiseMax(p);
+    known_.assign(skin_points_.size(), {-1e300, Eigen::Vector3d::Zero()});
+  }
+
+  /// The gap [mm] at shift s.
+  double at(const Eigen::Vector3d& s) const {
+    double g = 1e300;
+    for (const auto& p : resp_.nodes) g = std::min(g, head_tree_.signed_distance(p + s));
+    // A skin node farther from the respirator's box than the smallest gap so far cannot lower it.
+    for (const auto& q : skin_points_)
+      if (box_distance(q - s) < g) g = std::min(g, resp_tree_.distance(q - s));
+    return g;
+  }
+
+  /// Whether at(s) > gap_mm, with as few distance queries as it can: it stops at the first distance
+  /// within gap_mm, and skips a skin node whose distance is known to exceed gap_mm from its box
+  /// distance or from its distance at an earlier shift (a distance changes by at most the shift's
+  /// change). The bounds must clear gap_mm by 1e-9 mm, far above rounding, so the answer is at's.
+  bool exceeds(const Eigen::Vector3d& s, double gap_mm) {
+    for (const auto& p : resp_.nodes)
+      if (head_tree_.signed_distance(p + s) <= gap_mm) return false;
+    const double clear = gap_mm + 1e-9;
+    for (std::size_t i = 0; i < skin_points_.size(); ++i) {
+      const Eigen::Vector3d q = skin_points_[i] - s;
+      if (box_distance(q) > clear || known_[i].first - (s - known_[i].second).norm() > clear) continue;
+      const double d = resp_tree_.distance(q);
+      known_[i] = {d, s};
+      if (d <= gap_mm) return false;
     }
-  return g;
-}
+    return true;
+  }
+
+ private:
+  double box_distance(const Eigen::Vector3d& q) const { return (q - q.cwiseMax(lo_).cwiseMin(hi_)).norm(); }
+
+  internal::TriangleTree head_tree_;
+  const FeModel& resp_;
+  internal::TriangleTree resp_tree_;
+  std::vector<Eigen::Vector3d> skin_points_;
+  Eigen::Vector3d lo_, hi_;  ///< the respirator's box at rest
+  std::vector<std::pair<double, Eigen::Vector3d>> known_;  ///< per skin node: a distance and its shift
+};
 
 }  // namespace
 
@@ -129,10 +166,7 @@ void require_landmarks_near_skin(const FeModel& head, const std::map<std::string
                                           " mm (landmarks of another head, or not in align's frame?)");
 }
 
-double respirator_gap(const FeModel& head, const FeModel& resp) {
-  internal::TriangleTree ht(head.nodes, head_surface(head));
-  return gap_with_shift(head, ht, resp, Eigen::Vector3d::Zero());
-}
+double respirator_gap(const FeModel& head, const FeModel& resp) { return Gap(head, resp).at(Eigen::Vector3d::Zero()); }
 
 Eigen::Vector3d place_respirator(const FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
                                  const FeModel& resp, const PlaceOptions& opt, double* gap_out) {
@@ -149,19 +183,19 @@ Eigen::Vector3d place_respirator(const FeModel& head, const std::map<std::string
   double head_zmax = -1e300, resp_zmin = 1e300;
   for (const auto& p : head.nodes) head_zmax = std::max(head_zmax, p.z());
   for (const auto& p : resp.nodes) resp_zmin = std::min(resp_zmin, p.z());
-  internal::TriangleTree ht(head.nodes, head_surface(head));
+  Gap gap(head, resp);
   // Far in front (gap > target), then step back until closer than the target, then bisect.
   double far = head_zmax + opt.gap_mm + 5 - resp_zmin, near = far;
-  auto gap = [&](double z) { return gap_with_shift(head, ht, resp, Eigen::Vector3d(s.x(), s.y(), z)); };
-  for (int k = 0; k < 100 && gap(near) > opt.gap_mm; ++k) far = near, near -= 4.0;
-  if (gap(near) > opt.gap_mm)
+  auto keeps_gap = [&](double z) { return gap.exceeds(Eigen::Vector3d(s.x(), s.y(), z), opt.gap_mm); };
+  for (int k = 0; k < 100 && keeps_gap(near); ++k) far = near, near -= 4.0;
+  if (keeps_gap(near))
     throw pipeline::algorithm_failed("placement", "the respirator never comes within the gap of the face");
   for (int k = 0; k < 40 && far - near > 1e-3; ++k) {
     const double mid = 0.5 * (far + near);
-    (gap(mid) > opt.gap_mm ? far : near) = mid;
+    (keeps_gap(mid) ? far : near) = mid;
   }
   s.z() = far;  // the side that keeps at least the gap
-  if (gap_out) *gap_out = gap(far);
+  if (gap_out) *gap_out = gap.at(s);
   return s;
 }
 
