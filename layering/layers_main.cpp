@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
       .option("-r", "--report", &report_path, "optional JSON report (counts, quality, volumes)");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--materials", materials}, {"--out", out}, {"--report", report_path}});
+    pipeline::require_writable_outputs({out, report_path});
     // 1. Options (run_main has logged them).
     pipeline::require_extension("--out", out, {".msh"});
     opt.kind = kind;

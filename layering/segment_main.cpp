@@ -13,6 +13,7 @@
 
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"
+#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
   cli.option("-k", "--kind", &kind, "head | respirator (default head)");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--landmarks", landmarks}, {"--out", out}});
+    pipeline::require_writable_outputs({out});
     // 1. Options
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");

@@ -7,6 +7,7 @@
 //   straps --head head/layers.msh --landmarks head/landmarks.json --respirator respirator/layers.msh --out straps.msh
 #include "layering/layers.h"
 #include "meshing/straps.h"
+#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/progress.h"
 #include "pipeline/units.h"
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
       .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--head", head}, {"--landmarks", landmarks}, {"--respirator", resp}, {"--out", out}});
+    pipeline::require_writable_outputs({out});
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
     const auto h = layering::read_fe_model(head);

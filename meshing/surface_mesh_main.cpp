@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "meshing/surface_mesh.h"
+#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   cli.option("-g", "--min-gamma", &min_gamma, "fail below this triangle quality (default 0.3)", 0.0, 1.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
+    pipeline::require_writable_outputs({out});
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     pipeline::require_extension("--out", out, {".msh"});

@@ -1,8 +1,11 @@
 #include "pipeline/atomic_write.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -50,6 +53,22 @@ void write_all_or_none(const std::vector<Output>& outputs) {
   } catch (...) {
     for (const std::string& p : written) std::remove(p.c_str());
     throw;
+  }
+}
+
+void require_writable_outputs(const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    if (path.empty()) continue;
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw io_failed(path, "is a folder, not a file");
+    fs::path dir = fs::path(path).parent_path();
+    while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.parent_path()) dir = dir.parent_path();
+    if (dir.empty()) dir = ".";
+    const fs::path probe = dir / (".writable." + std::to_string(::getpid()));
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+    if (fd < 0) throw io_failed(path, "cannot write in " + dir.string() + ": " + std::strerror(errno));
+    ::close(fd);
+    ::unlink(probe.c_str());
   }
 }
 

@@ -28,6 +28,14 @@ struct Output {
 /// stage's outputs as new. (Each write is atomic on its own; this makes the set so.)
 void write_all_or_none(const std::vector<Output>& outputs);
 
+/// Checks, before any work, that each output can be written where its path says: its folder, or
+/// the nearest folder above it that exists (write_atomic makes the rest), must take a new file.
+/// A stage otherwise found out after its work (minutes of reconstruct or fit) that it could not
+/// write there. The check creates and removes an empty file, so it holds for root, read-only
+/// mounts and /proc alike. Empty paths (outputs not requested) are skipped.
+/// @throws Error(io) "<path>: cannot write in <folder>: Permission denied", or "<path>: is a folder"
+void require_writable_outputs(const std::vector<std::string>& paths);
+
 /// Writes `text` to `path` atomically.
 void write_text_atomic(const std::string& path, const std::string& text);
 

@@ -10,6 +10,7 @@
 
 #include <cstdio>
 
+#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
              "heads: remesh at edge/2 where the uniform fit misses the input by more than this [mm] (default 0.5; 0 = off)", 0.0, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
+    pipeline::require_writable_outputs({out});
     // 1. Options and input
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   cli.option("-u", "--user", &user, "user landmarks (JSON) replacing detection");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--user", user}, {"--out", out}});
+    pipeline::require_writable_outputs({out});
     // 1. Input (run_main has logged the options)
     pipeline::Progress progress("landmarks", 0);
     const auto head = pipeline::read_surface_mesh(in);

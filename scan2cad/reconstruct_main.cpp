@@ -5,6 +5,7 @@
 // Sample runs:
 //   reconstruct --in scan.ply --kind head --out reconstructed.ply
 //   reconstruct --in shell.xyz --kind respirator --method advancing_front --out reconstructed.ply
+#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
+    pipeline::require_writable_outputs({out});
     opt.density_reference_points = std::size_t(density_points);
     opt.refit_on_own_side = !no_refit;
     opt.projection_onto_unsmoothed = !onto_smoothed;

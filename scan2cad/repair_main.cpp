@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
              "complete a hole by symmetry only if its ring is this symmetric (RMS) [mm]", 0.0, 100.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}, {"--report", report_path}});
+    pipeline::require_writable_outputs({out, report_path});
     // 1. Options
     pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
     opt.symmetric_completion = !no_symmetry;

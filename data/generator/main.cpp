@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--params", rq.params_path}, {"--from-mesh", rq.mesh_path}, {"--out", out},
                                       {"--clean-mesh", clean_mesh}, {"--holes-out", holes_out}});
+    pipeline::require_writable_outputs({out, clean_mesh, holes_out});
     // 1. Resolve options.
     pipeline::require_extension("--out", out, pipeline::point_cloud_extensions);
     if (!clean_mesh.empty()) pipeline::require_extension("--clean-mesh", clean_mesh, pipeline::surface_mesh_extensions);

@@ -4,6 +4,7 @@
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "../bad_input_message.h"
 #include "../scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -54,4 +55,25 @@ TEST(write_all_or_none, a_failed_write_removes_the_ones_before_it) {
   pipeline::write_all_or_none({{a, [&] { pipeline::write_text_atomic(a, "a"); }}, {"", [] {}},
                                {b, [&] { pipeline::write_text_atomic(b, "b"); }}});
   EXPECT_EQ(pipeline::read_text(a) + pipeline::read_text(b), "ab");
+}
+
+// Outputs that cannot be written are found before the work, not after it: a folder that takes no
+// new files (/proc, even for root), a "folder" that is a file, an output that is a folder. A
+// writable place passes without a trace: no probe file, no folder made.
+TEST(require_writable_outputs, names_the_output_and_why_before_any_work) {
+  const fs::path dir = scratch_dir() / "writable";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto message = [](const std::string& path) {
+    return error_message(pipeline::ErrorKind::io, [&] { pipeline::require_writable_outputs({"", path}); });
+  };
+  EXPECT_EQ(message((dir / "out.ply").string()), "no error");
+  EXPECT_EQ(message((dir / "not" / "yet" / "out.ply").string()), "no error");
+  EXPECT_FALSE(fs::exists(dir / "not"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 0);
+  EXPECT_EQ(message("/proc/x/out.ply").rfind("/proc/x/out.ply: cannot write in /proc: ", 0), 0u);
+  pipeline::write_text_atomic((dir / "notes.txt").string(), "a file");
+  const std::string under_file = (dir / "notes.txt" / "out.ply").string();
+  EXPECT_EQ(message(under_file), under_file + ": cannot write in " + (dir / "notes.txt").string() + ": Not a directory");
+  EXPECT_EQ(message(dir.string()), dir.string() + ": is a folder, not a file");
 }
