@@ -32,12 +32,46 @@ std::string energy_row(const Energies& e) {
 void write_frame(std::ostream& out, const Model& m, const Solver& s, int index) {
   const double t = s.time();
   for (const auto& f : m.output.node_data) {
-    if (f == "displacement") append_node_data(out, m, f, t, index, s.displacement(), 3);
-    if (f == "velocity") append_node_data(out, m, f, t, index, s.v(), 3);
-    if (f == "contact_pressure") append_node_data(out, m, f, t, index, s.contact_pressure(), 1);
-    if (f == "contact_shear") append_node_data(out, m, f, t, index, s.contact_shear(), 1);
-    if (f == "von_mises") append_node_data(out, m, f, t, index, s.von_mises(), 1);
+    const int n = node_data_components(f);
+    if (f == "displacement") append_node_data(out, m, f, t, index, s.displacement(), n);
+    if (f == "velocity") append_node_data(out, m, f, t, index, s.v(), n);
+    if (f == "contact_pressure") append_node_data(out, m, f, t, index, s.contact_pressure(), n);
+    if (f == "contact_shear") append_node_data(out, m, f, t, index, s.contact_shear(), n);
+    if (f == "von_mises") append_node_data(out, m, f, t, index, s.von_mises(), n);
   }
+}
+
+// "232 kB", "227 TB": three digits in the largest unit under the amount.
+std::string bytes_text(double bytes) {
+  const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
+  int u = 0;
+  while (u < 5 && bytes >= 1000) bytes /= 1000, ++u;
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g %s", bytes, units[u]);
+  return b;
+}
+
+// A frame at every step (control.output_interval below dt) of a large model, or a history row at
+// every step of a long run, can need terabytes, which a full disk would show only hours into the
+// run. The need is an upper bound (every value at its longest), with the frames counted twice:
+// they are kept in a temporary file and copied into results.msh. Checked on the file system
+// out_dir will be on, before it is made.
+void require_room_for_outputs(const Model& m, const std::string& out_dir, double frames, double rows,
+                              bool write_results) {
+  namespace fs = std::filesystem;
+  const double frame_bytes = write_results ? node_data_bytes_max(m) : 0;
+  const double row_bytes = 18.0 * double(9 + 3 * m.contacts.size() + 6 * m.output.history_groups.size());
+  const double need = 2 * frames * frame_bytes + rows * row_bytes;
+  std::error_code ec;
+  fs::path existing = fs::absolute(out_dir, ec);
+  while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  const fs::space_info space = fs::space(existing, ec);
+  if (ec || space.capacity == 0 || need <= double(space.available)) return;  // capacity 0: a file system that does not say
+  throw pipeline::io_failed(out_dir, "the outputs need up to " + bytes_text(need) + " (" + fmt(frames) + " frames of " +
+                                         bytes_text(frame_bytes) + ", " + fmt(rows) + " history rows), and " +
+                                         bytes_text(double(space.available)) +
+                                         " are free there: raise control.output_interval or history_interval");
 }
 
 }  // namespace
@@ -64,12 +98,16 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     throw pipeline::bad_input(m.name, "control.end_time " + fmt(m.control.end_time) + " ms needs " +
                                           fmt(steps_needed) + " steps of " + fmt(s.dt()) +
                                           " ms, more than 1e9: check its unit (ms)");
-  std::error_code ec;
-  fs::create_directories(opt.out_dir, ec);
-  if (!fs::is_directory(opt.out_dir)) throw pipeline::io_failed(opt.out_dir, "cannot create the output directory");
   const Control& c = m.control;
   const double out_dt = c.output_interval > 0 ? c.output_interval : c.end_time / 10;
   const double hist_dt = c.history_interval > 0 ? c.history_interval : out_dt / 10;
+  const double span = c.end_time - s.time();  // at most one frame and one history row per step
+  require_room_for_outputs(m, opt.out_dir, std::min(steps_needed, span / out_dt) + 2,
+                           std::min(steps_needed, span / hist_dt) + 2, opt.write_results);
+  std::error_code ec;
+  fs::create_directories(opt.out_dir, ec);
+  if (!fs::is_directory(opt.out_dir)) throw pipeline::io_failed(opt.out_dir, "cannot create the output directory");
+  pipeline::require_writable_outputs({(fs::path(opt.out_dir) / "state.bin").string()});  // else found at the end
   std::size_t n_elem = 0;
   for (const auto& p : m.parts) n_elem += p.size();
   pipeline::log("solve", std::to_string(m.n_nodes()) + " nodes, " + std::to_string(n_elem) + " elements, " +

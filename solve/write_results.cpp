@@ -1,6 +1,7 @@
 #include "solve/write_results.h"
 
 #include <cstdio>
+#include <string>
 
 #include <gmsh.h>
 
@@ -78,6 +79,17 @@ void append_node_data(std::ostream& out, const Model& m, const std::string& name
     out << '\n';
   }
   out << "$EndNodeData\n";
+}
+
+int node_data_components(const std::string& field) { return field == "displacement" || field == "velocity" ? 3 : 1; }
+
+double node_data_bytes_max(const Model& m) {
+  double tag_chars = 0;  // the node tags as append_node_data writes them, one per line
+  for (std::size_t i = 0; i < m.n_nodes(); ++i) tag_chars += double(std::to_string(m.node_tag(i)).size() + 1);
+  double bytes = 0;
+  for (const auto& f : m.output.node_data)
+    bytes += 100 + double(f.size()) + tag_chars + 17.0 * node_data_components(f) * double(m.n_nodes());  // 100: header
+  return bytes;
 }
 
 }  // namespace solve

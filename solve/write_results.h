@@ -23,4 +23,12 @@ void write_mesh_msh(const Model& m, const std::string& path,
 void append_node_data(std::ostream& out, const Model& m, const std::string& name, double time, int step,
                       const std::vector<double>& values, int ncomp);
 
+/// Components per node of an output field: 3 for "displacement" and "velocity", else 1.
+int node_data_components(const std::string& field);
+
+/// The most bytes the $NodeData blocks of one output time can take: every field of
+/// m.output.node_data, each value in at most the 17 characters append_node_data gives it
+/// (" -1.23456789e-300"). For the room a run's results need before it starts.
+double node_data_bytes_max(const Model& m);
+
 }  // namespace solve

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <vector>
 
 #include "solve/load_model.h"
 #include "solve/make_block.h"
@@ -104,6 +106,9 @@ TEST(solve_cli, good_run_writes_results_state_and_histories) {
   // the results open as a mesh again (same nodes)
   const solve::Model r = solve::read_msh(c.dir + "/out/results.msh");
   EXPECT_EQ(r.n_nodes(), 64u);
+  // the room the run checked for before it started is an upper bound on its frames
+  const std::string results = c.read("out/results.msh");
+  EXPECT_LE(double(results.size() - results.find("$NodeData")), 5 * solve::node_data_bytes_max(r));
   // the pressing force shows up as a reaction on zmax (compressive: +z on the block's top)
   EXPECT_NE(c.read("out/forces.csv").find("zmax_reaction_Fz"), std::string::npos);
   // restart: continue to 2 ms from the saved state
@@ -161,6 +166,47 @@ TEST(solve_cli, bad_deck_one_error_line_no_results) {
   EXPECT_FALSE(fs::exists(c.dir + "/out4"));
   EXPECT_NE(c.read("err.txt").find("bad4.json: control.end_time 1e+300 ms needs"), std::string::npos) << c.read("err.txt");
   EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+}
+
+// The room a frame can take: every value at its longest (" -1.23456789e-300") fills the bound
+// to within its 100-byte block headers, and nothing can exceed it.
+TEST(node_data_bytes_max, bounds_the_longest_frame_closely) {
+  solve::BlockSpec b;
+  b.type = solve::ElementType::wedge6;
+  b.nx = b.ny = b.nz = 4;
+  const solve::Model m = solve::make_block(b, {"skin", 1.2e-3, 0.6, 0.45, false});
+  std::ostringstream out;
+  for (const auto& f : m.output.node_data) {
+    const int n = solve::node_data_components(f);
+    append_node_data(out, m, f, 123.456789, 99999, std::vector<double>(n * m.n_nodes(), -1.23456789e-300), n);
+  }
+  const double bound = solve::node_data_bytes_max(m), longest = double(out.str().size());
+  EXPECT_LE(longest, bound);
+  EXPECT_GE(longest, bound - 100.0 * double(m.output.node_data.size()));
+}
+
+// A frame at every step of a long run needs more room than any disk has (here ~230 TB: 1,331
+// nodes, 5 fields, 4.9e8 steps): refused before the run, with exit 4, one line saying what it
+// needs, and no output folder. It ran and filled the disk.
+TEST(solve_cli, outputs_larger_than_the_free_space_are_refused_before_the_run) {
+  CliCase c;
+  solve::BlockSpec b;
+  b.type = solve::ElementType::wedge6;
+  b.nx = b.ny = b.nz = 10;
+  b.size = {3, 3, 3};
+  solve::write_mesh_msh(solve::make_block(b, {"skin", 1.2e-3, 0.6, 0.45, false}), c.dir + "/fine.msh");
+  std::string d = deck(1.5e6);  // 4.9e8 steps of 0.0031 ms
+  const std::string every_quarter_ms = "\"output_interval\": 0.25";
+  d.replace(d.find(every_quarter_ms), every_quarter_ms.size(), "\"output_interval\": 1e-9");
+  c.write("every_step.json", d);
+  EXPECT_EQ(c.sh(std::string(BIN_DIR) + "/solve --model " + c.dir + "/fine.msh --deck " + c.dir +
+                 "/every_step.json --out-dir " + c.dir + "/huge"),
+            4);
+  const std::string err = c.read("err.txt");
+  EXPECT_NE(err.find("solve: " + c.dir + "/huge: the outputs need up to "), std::string::npos) << err;
+  EXPECT_NE(err.find(": raise control.output_interval or history_interval"), std::string::npos) << err;
+  EXPECT_EQ(count(err, "solve: "), 2) << err;  // the resolved-options log line + the one error line
+  EXPECT_FALSE(fs::exists(c.dir + "/huge"));
 }
 
 TEST(solve_cli, bad_msh_one_error_line_no_results) {
