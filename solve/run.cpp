@@ -98,6 +98,14 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     throw pipeline::bad_input(m.name, "control.end_time " + fmt(m.control.end_time) + " ms needs " +
                                           fmt(steps_needed) + " steps of " + fmt(s.dt()) +
                                           " ms, more than 1e9: check its unit (ms)");
+  // Mass scaling is for slow (quasi-static) loading, where even a tenfold mass leaves the answer
+  // alone; a dt_target in the wrong unit (µs read as ms) scales the mass by ~1e6 and turns the run
+  // into a different, far slower-moving problem without a word.
+  const double physical_mass = s.total_mass() - s.added_mass();
+  if (s.added_mass() > 1000 * physical_mass)
+    throw pipeline::bad_input(m.name, "control.dt_target " + fmt(m.control.dt_target) + " ms adds " +
+                                          pipeline::format_number(s.added_mass() / physical_mass) +
+                                          " times the model's mass by mass scaling, more than 1000: check its unit (ms)");
   const Control& c = m.control;
   const double out_dt = c.output_interval > 0 ? c.output_interval : c.end_time / 10;
   const double hist_dt = c.history_interval > 0 ? c.history_interval : out_dt / 10;

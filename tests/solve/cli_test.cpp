@@ -165,6 +165,16 @@ TEST(solve_cli, bad_deck_one_error_line_no_results) {
   EXPECT_EQ(c.solve("bad4.json", "out4"), 2);
   EXPECT_FALSE(fs::exists(c.dir + "/out4"));
   EXPECT_NE(c.read("err.txt").find("bad4.json: control.end_time 1e+300 ms needs"), std::string::npos) << c.read("err.txt");
+  // A dt_target in the wrong unit: 10 ms against this block's stable step of ~0.01 ms multiplies
+  // the mass by ~1e6 (it ran; on the medium head, with 12.6 million % added mass).
+  std::string slow = deck(1.0);
+  slow.replace(slow.find("\"damping_alpha\""), 0, "\"dt_target\": 10, ");
+  c.write("bad5.json", slow);
+  EXPECT_EQ(c.solve("bad5.json", "out5"), 2);
+  EXPECT_FALSE(fs::exists(c.dir + "/out5"));
+  EXPECT_NE(c.read("err.txt").find("bad5.json: control.dt_target 10 ms adds "), std::string::npos) << c.read("err.txt");
+  EXPECT_NE(c.read("err.txt").find(" times the model's mass by mass scaling, more than 1000"), std::string::npos)
+      << c.read("err.txt");
   EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
 }
 
