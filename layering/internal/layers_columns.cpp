@@ -225,7 +225,7 @@ Columns make_columns(Input& in, const LayerOptions& opt) {
   return c;
 }
 
-void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline::Progress* progress) {
+std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline::Progress* progress) {
   const auto& x = in.nodes;
   for (const PartTris& p : in.parts)
     for (std::size_t e = 0; e < p.tris.size(); ++e) {
@@ -280,11 +280,12 @@ void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline:
       std::vector<Tri> tris;
       std::vector<std::pair<int, int>> own;
       element_faces(m, &tris, &own);
-      for (auto [a, b] : intersecting_triangles(m.nodes, tris))
+      const auto pairs = intersecting_triangles(m.nodes, tris);
+      for (auto [a, b] : pairs)
         for (int f : {a, b})
           if (own[f].first == 0) bad.insert(own[f].second);
       what = "wedges with intersecting faces";
-      if (bad.empty()) return;
+      if (bad.empty()) return pairs.size();  // pairs of shell triangles: no column moves them
     }
     if (progress) progress->step("fix pass " + std::to_string(iter + 1) + ": " + std::to_string(bad.size()) + " " + what);
     // Two causes, two fixes. If the wedge's skin triangle with its column directions (depth-free:

@@ -69,9 +69,13 @@ Columns make_columns(Input& in, const LayerOptions& opt);
 
 /// Detect-and-fix loop: scales column depths down (and pulls directions toward the face normal)
 /// around every wedge below the quality threshold or whose faces intersect another element.
+/// Its last pass is the layers' intersection check: it tests every element face of the model
+/// build_layers then writes (the same nodes, wedges and shells).
+/// @return the intersecting face pairs left, all between shell triangles (rigid parts, which no
+///         column moves: a self-intersecting surface); 0 on a clean model
 /// @throws Error(bad_input) for a skin triangle that is itself too distorted;
 ///         Error(algorithm) if not clean after opt.max_fix_iterations passes.
-void fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline::Progress* progress);
+std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pipeline::Progress* progress);
 
 /// Deduplicated triangles of every element face of `m` (wedge triangles, wedge and shell quads split
 /// along the diagonal through their smallest node id, shell triangles); owner[t] = (block, element).

@@ -164,6 +164,38 @@ TEST(layers_columns, thinned_column_tapers_within_a_fixed_width_at_any_edge_leng
   }
 }
 
+// A shell (a group without layers, like back_of_head) that cuts through itself is no model: the
+// fix loop cannot mend it, since no column moves a shell, and layers must refuse it, not write it
+// with exit 0 and "0 intersecting faces". A flat forehead patch with two crossing triangles as
+// its back_of_head, 50 mm off on the layers' side; the same without the crossing layers cleanly.
+TEST(build_layers, a_self_intersecting_shell_is_refused) {
+  layering::FeModel surface;
+  layering::Block forehead{"forehead", 2, 3, {}}, back{"back_of_head", 2, 3, {}};
+  for (int j = 0; j <= 4; ++j)
+    for (int i = 0; i <= 4; ++i) surface.nodes.emplace_back(4.0 * i, 4.0 * j, 0.0);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const int a = 5 * j + i, b = a + 1, c = a + 5, d = a + 6;
+      forehead.conn.insert(forehead.conn.end(), {a, b, d, a, d, c});
+    }
+  const int n = int(surface.nodes.size());
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(3, 8, 50), Eigen::Vector3d(13, 8, 50), Eigen::Vector3d(8, 8, 60),
+                                   Eigen::Vector3d(8, 3, 52), Eigen::Vector3d(8, 13, 52), Eigen::Vector3d(8, 8, 58)})
+    surface.nodes.push_back(p);
+  back.conn = {n, n + 1, n + 2, n + 3, n + 4, n + 5};  // two triangles crossing along x = y = 8
+  surface.blocks = {forehead, back};
+  const auto stacks = layering::read_stacks(kMaterials, "head");
+  const std::map<std::string, layering::Stack> forehead_only = {{"forehead", stacks.at("forehead")}};
+  EXPECT_EQ(error_message(pipeline::ErrorKind::algorithm, [&] { layering::build_layers(surface, forehead_only, {}, nullptr); }),
+            "layers: shell triangles (of the groups without layers) intersect in 1 pairs: a self-intersecting "
+            "surface (repair it)");
+  surface.blocks[1].conn = {n, n + 1, n + 2};
+  layering::LayerReport report;
+  const auto layered = layering::build_layers(surface, forehead_only, {}, &report);
+  EXPECT_EQ(report.intersecting_pairs, 0u);
+  EXPECT_EQ(layering::count_intersecting_faces(layered), 0u);
+}
+
 TEST(build_layers, respirator_dome_has_seal_and_outer_layers) {
   layering::LayerOptions opt;
   opt.kind = "respirator";
