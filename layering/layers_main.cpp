@@ -34,10 +34,10 @@ int main(int argc, char** argv) {
       .option("-r", "--report", &report_path, "optional JSON report (counts, quality, volumes)");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--materials", materials}, {"--out", out}, {"--report", report_path}});
-    pipeline::require_writable_outputs({out, report_path});
     // 1. Options (run_main has logged them).
     pipeline::require_extension("--out", out, {".msh"});
     opt.kind = kind;
+    pipeline::require_writable_outputs({out, report_path});
     // 2. Load surface and stacks.
     const auto stacks = layering::read_stacks(materials, kind);
     opt.elements_per_tissue = layering::parse_elements_per_tissue(per_tissue, stacks);

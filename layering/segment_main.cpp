@@ -32,13 +32,13 @@ int main(int argc, char** argv) {
   cli.option("-k", "--kind", &kind, "head | respirator (default head)");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--landmarks", landmarks}, {"--out", out}});
-    pipeline::require_writable_outputs({out});
     // 1. Options
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     if (kind == "head" && landmarks.empty())
       throw pipeline::Error(pipeline::ErrorKind::usage, "--landmarks is required for --kind head");
     pipeline::require_extension("--out", out, {".ply"});  // only PLY keeps the face property 'part'
+    pipeline::require_writable_outputs({out});
     pipeline::Progress progress("segment", 0);
     // 2. Load
     layering::HeadLandmarks lm;

@@ -39,9 +39,9 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--head", head}, {"--respirator", resp}, {"--straps", straps}, {"--landmarks", landmarks},
                                       {"--materials", materials}, {"--out", out}, {"--deck1", deck1}, {"--deck2", deck2}});
-    pipeline::require_writable_outputs({out, deck1, deck2});
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
+    pipeline::require_writable_outputs({out, deck1, deck2});
     const auto h = layering::read_fe_model(head);
     meshing::require_layered(h, head, "head");
     pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");

@@ -26,9 +26,9 @@ int main(int argc, char** argv) {
       .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--head", head}, {"--landmarks", landmarks}, {"--respirator", resp}, {"--out", out}});
-    pipeline::require_writable_outputs({out});
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
+    pipeline::require_writable_outputs({out});
     const auto h = layering::read_fe_model(head);
     meshing::require_layered(h, head, "head");
     pipeline::require_mm(head, pipeline::largest_extent(h.nodes), "head");

@@ -33,10 +33,10 @@ int main(int argc, char** argv) {
   cli.option("-g", "--min-gamma", &min_gamma, "fail below this triangle quality (default 0.3)", 0.0, 1.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
-    pipeline::require_writable_outputs({out});
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     pipeline::require_extension("--out", out, {".msh"});
+    pipeline::require_writable_outputs({out});
     pipeline::Progress progress("surface_mesh", 0);
     const pipeline::SurfaceMesh fitted = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(fitted.points()), kind);

@@ -1,10 +1,10 @@
 #include "pipeline/atomic_write.h"
 
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -61,11 +61,15 @@ void require_writable_outputs(const std::vector<std::string>& paths) {
     if (path.empty()) continue;
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw io_failed(path, "is a folder, not a file");
+    // Up past the folders that are not there (write_atomic makes them); anything else in the way
+    // (no permission, a dangling link, a file) is for the probe to report.
     fs::path dir = fs::path(path).parent_path();
-    while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.parent_path()) dir = dir.parent_path();
+    while (!dir.empty() && dir != dir.parent_path() &&
+           fs::symlink_status(dir, ec).type() == fs::file_type::not_found)
+      dir = dir.parent_path();
     if (dir.empty()) dir = ".";
-    const fs::path probe = dir / (".writable." + std::to_string(::getpid()));
-    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+    std::string probe = (dir / ".writable.XXXXXX").string();  // a name of its own, as mkstemp picks it
+    const int fd = ::mkstemp(probe.data());
     if (fd < 0) throw io_failed(path, "cannot write in " + dir.string() + ": " + std::strerror(errno));
     ::close(fd);
     ::unlink(probe.c_str());

@@ -34,11 +34,11 @@ int main(int argc, char** argv) {
   cli.option("-s", "--samples", &samples, "surface samples for the symmetry search (default 4000)", 500, 100000);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}, {"--transform", transform_path}});
-    pipeline::require_writable_outputs({out, transform_path});
     // 1. Options (run_main has logged them)
     const auto kind = scan2cad::parse_align_kind(kind_name);
     const pipeline::Unit unit = pipeline::parse_unit(unit_name);
     pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
+    pipeline::require_writable_outputs({out, transform_path});
     pipeline::Progress progress("align", 0);
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)
     progress.step("loading " + in);

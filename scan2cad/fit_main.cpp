@@ -35,11 +35,11 @@ int main(int argc, char** argv) {
              "heads: remesh at edge/2 where the uniform fit misses the input by more than this [mm] (default 0.5; 0 = off)", 0.0, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
-    pipeline::require_writable_outputs({out});
     // 1. Options and input
     if (kind != "head" && kind != "respirator")
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     pipeline::require_extension("--out", out, {".ply", ".msh"});
+    pipeline::require_writable_outputs({out});
     const std::string ext = pipeline::lower_extension(out);
     pipeline::Progress progress("fit", 0);
     const pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(in);

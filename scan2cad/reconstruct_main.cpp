@@ -61,7 +61,6 @@ int main(int argc, char** argv) {
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
-    pipeline::require_writable_outputs({out});
     opt.density_reference_points = std::size_t(density_points);
     opt.refit_on_own_side = !no_refit;
     opt.projection_onto_unsmoothed = !onto_smoothed;
@@ -71,6 +70,7 @@ int main(int argc, char** argv) {
     const auto kind = kind_unit.kind();
     opt.method = scan2cad::parse_reconstruct_method(method_name, kind);
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();
+    pipeline::require_writable_outputs({out});
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
     pipeline::log("reconstruct", in + ": " + kind_unit.describe_unit(scan));

@@ -36,12 +36,12 @@ int main(int argc, char** argv) {
              "complete a hole by symmetry only if its ring is this symmetric (RMS) [mm]", 0.0, 100.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}, {"--report", report_path}});
-    pipeline::require_writable_outputs({out, report_path});
     // 1. Options
     pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
     opt.symmetric_completion = !no_symmetry;
     const auto kind = kind_unit.kind();
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();
+    pipeline::require_writable_outputs({out, report_path});
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
     pipeline::log("repair", in + ": " + kind_unit.describe_unit(scan));

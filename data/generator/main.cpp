@@ -43,13 +43,13 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--params", rq.params_path}, {"--from-mesh", rq.mesh_path}, {"--out", out},
                                       {"--clean-mesh", clean_mesh}, {"--holes-out", holes_out}});
-    pipeline::require_writable_outputs({out, clean_mesh, holes_out});
     // 1. Resolve options.
     pipeline::require_extension("--out", out, pipeline::point_cloud_extensions);
     if (!clean_mesh.empty()) pipeline::require_extension("--clean-mesh", clean_mesh, pipeline::surface_mesh_extensions);
     rq.seed = static_cast<std::uint64_t>(seed);
     generator::parse_hole_diameters(holes_diam, &rq.hole_diameter_min_mm, &rq.hole_diameter_max_mm);
     rq.noise_direction = generator::parse_noise_direction(noise_dir);
+    pipeline::require_writable_outputs({out, clean_mesh, holes_out});
     // 2. Build the surface and scan it.
     const generator::GeneratedScan scan = generator::generate_scan(rq);
     // 3. Write outputs atomically, all or none.

@@ -58,8 +58,8 @@ TEST(write_all_or_none, a_failed_write_removes_the_ones_before_it) {
 }
 
 // Outputs that cannot be written are found before the work, not after it: a folder that takes no
-// new files (/proc, even for root), a "folder" that is a file, an output that is a folder. A
-// writable place passes without a trace: no probe file, no folder made.
+// new files (/proc, even for root), a "folder" that is a file, an output that is a folder, a link
+// to a folder that is gone. A writable place passes without a trace: no probe file, no folder made.
 TEST(require_writable_outputs, names_the_output_and_why_before_any_work) {
   const fs::path dir = scratch_dir() / "writable";
   fs::remove_all(dir);
@@ -76,4 +76,8 @@ TEST(require_writable_outputs, names_the_output_and_why_before_any_work) {
   const std::string under_file = (dir / "notes.txt" / "out.ply").string();
   EXPECT_EQ(message(under_file), under_file + ": cannot write in " + (dir / "notes.txt").string() + ": Not a directory");
   EXPECT_EQ(message(dir.string()), dir.string() + ": is a folder, not a file");
+  fs::create_directory_symlink(dir / "nowhere", dir / "dangling");  // a link to a folder that is gone
+  const std::string through_link = (dir / "dangling" / "out.ply").string();
+  EXPECT_EQ(message(through_link), through_link + ": cannot write in " + (dir / "dangling").string() +
+                                       ": No such file or directory");
 }
