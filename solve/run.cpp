@@ -45,7 +45,7 @@ void write_frame(std::ostream& out, const Model& m, const Solver& s, int index) 
 std::string bytes_text(double bytes) {
   const char* units[] = {"bytes", "kB", "MB", "GB", "TB", "PB"};
   int u = 0;
-  while (u < 5 && bytes >= 1000) bytes /= 1000, ++u;
+  while (u < 5 && bytes >= 999.5) bytes /= 1000, ++u;  // 999.7 kB would print as "1e+03 kB"
   char b[32];
   std::snprintf(b, sizeof b, "%.3g %s", bytes, units[u]);
   return b;
@@ -53,24 +53,27 @@ std::string bytes_text(double bytes) {
 
 // A frame at every step (control.output_interval below dt) of a large model, or a history row at
 // every step of a long run, can need terabytes, which a full disk would show only hours into the
-// run. The need is an upper bound (every value at its longest), with the frames counted twice:
-// they are kept in a temporary file and copied into results.msh. Checked on the file system
-// out_dir will be on, before it is made.
+// run. The need is estimated from the starting step (it can shrink as elements deform) with every
+// value at its longest and the frames counted twice (they are kept in a temporary file and
+// copied into results.msh), plus the mesh and the state (~100 bytes per node and per element).
+// Checked on the file system out_dir will be on, before it is made.
 void require_room_for_outputs(const Model& m, const std::string& out_dir, double frames, double rows,
                               bool write_results) {
   namespace fs = std::filesystem;
   const double frame_bytes = write_results ? node_data_bytes_max(m) : 0;
   const double row_bytes = 18.0 * double(9 + 3 * m.contacts.size() + 6 * m.output.history_groups.size());
-  const double need = 2 * frames * frame_bytes + rows * row_bytes;
+  double elements = 0;
+  for (const auto& p : m.parts) elements += double(p.size());
+  const double need = 2 * frames * frame_bytes + rows * row_bytes + 100 * (double(m.n_nodes()) + elements);
   std::error_code ec;
   fs::path existing = fs::absolute(out_dir, ec);
   while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
     existing = existing.parent_path();
   const fs::space_info space = fs::space(existing, ec);
   if (ec || space.capacity == 0 || need <= double(space.available)) return;  // capacity 0: a file system that does not say
-  throw pipeline::io_failed(out_dir, "the outputs need up to " + bytes_text(need) + " (" + fmt(frames) + " frames of " +
-                                         bytes_text(frame_bytes) + ", " + fmt(rows) + " history rows), and " +
-                                         bytes_text(double(space.available)) +
+  const std::string frames_text = write_results ? fmt(frames) + " frames of " + bytes_text(frame_bytes) + ", " : "";
+  throw pipeline::io_failed(out_dir, "the outputs need about " + bytes_text(need) + " (" + frames_text + fmt(rows) +
+                                         " history rows), and " + bytes_text(double(space.available)) +
                                          " are free there: raise control.output_interval or history_interval");
 }
 

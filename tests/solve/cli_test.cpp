@@ -209,11 +209,15 @@ TEST(solve_cli, outputs_larger_than_the_free_space_are_refused_before_the_run) {
   const std::string every_quarter_ms = "\"output_interval\": 0.25";
   d.replace(d.find(every_quarter_ms), every_quarter_ms.size(), "\"output_interval\": 1e-9");
   c.write("every_step.json", d);
-  EXPECT_EQ(c.sh(std::string(BIN_DIR) + "/solve --model " + c.dir + "/fine.msh --deck " + c.dir +
+  // A file system that says nothing of its size, or has the room (a petabyte store), would let the
+  // run start: then there is nothing to test here, and `timeout` stops it.
+  const fs::space_info space = fs::space(c.dir);
+  if (space.capacity == 0 || space.available > 2e14) GTEST_SKIP() << "no disk too small for ~230 TB here";
+  EXPECT_EQ(c.sh("timeout 60 " + std::string(BIN_DIR) + "/solve --model " + c.dir + "/fine.msh --deck " + c.dir +
                  "/every_step.json --out-dir " + c.dir + "/huge"),
             4);
   const std::string err = c.read("err.txt");
-  EXPECT_NE(err.find("solve: " + c.dir + "/huge: the outputs need up to "), std::string::npos) << err;
+  EXPECT_NE(err.find("solve: " + c.dir + "/huge: the outputs need about "), std::string::npos) << err;
   EXPECT_NE(err.find(": raise control.output_interval or history_interval"), std::string::npos) << err;
   EXPECT_EQ(count(err, "solve: "), 2) << err;  // the resolved-options log line + the one error line
   EXPECT_FALSE(fs::exists(c.dir + "/huge"));
