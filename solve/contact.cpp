@@ -67,15 +67,6 @@ inline Vec unit(const Vec& a) {
   return l > 0 ? scaled(a, 1 / l) : Vec{0, 0, 0};
 }
 
-/// One slave's contact, computed in parallel and gathered serially.
-struct SlaveContact {
-  int tri = -1;          ///< master triangle of the closest point within the search depth, -1: none
-  bool touching = false; ///< penetrating: forces are applied
-  Vec w{0, 0, 0};        ///< barycentric weights of the contact point
-  Vec normal_force{0, 0, 0}, tangent_force{0, 0, 0};  ///< on the slave [N]
-  double fn = 0;         ///< normal force magnitude [N]
-  double penetration = 0;
-};
 }  // namespace
 
 ContactPair::ContactPair(ContactSpec spec, std::size_t n_nodes)
@@ -338,14 +329,18 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
     for (std::size_t j = 0; j < np; ++j) slave_order_[j] = key[j].second;
   }
   // 3. Per contact point: closest master point, gap, penalty, damping and friction forces.
-  std::vector<SlaveContact> contact(np);
-  std::vector<double> point_area(np, 0.0);
+  auto& contact = point_contact_;
+  auto& point_area = point_area_;
+  contact.resize(np);
+  point_area.resize(np);
   const double s_pen = spec_.penalty_scale, xi = spec_.damping_ratio, mu = spec_.friction;
   const double omega = std::sqrt(s_pen) / dt, boundary_tol = 0.1 * edge_length_;
   const bool two_sided = spec_.two_sided;
 #pragma omp parallel for schedule(dynamic, 256) if (long(np) > internal::kMinParallel)
   for (long js = 0; js < long(np); ++js) {
     const std::size_t j = std::size_t(slave_order_[std::size_t(js)]);
+    contact[j] = PointContact{};
+    point_area[j] = 0;
     const Point& pt = points_[j];
     const Vec px = point_x(j);
     const double* p = px.data();
@@ -460,7 +455,7 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
     }
     const double vn = dot(v_rel, n);
     const double fn = std::max(0.0, k_pen * pen - 2 * xi * m_red * omega * vn);
-    SlaveContact& c = contact[j];
+    PointContact& c = contact[j];
     c.touching = true;
     c.fn = fn;
     c.normal_force = scaled(n, fn);
@@ -485,7 +480,7 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
   resultant_ = {0, 0, 0};
   max_penetration_ = 0;
   for (std::size_t j = 0; j < np; ++j) {
-    const SlaveContact& c = contact[j];
+    const PointContact& c = contact[j];
     if (c.tri < 0) continue;
     const auto& l = tri_local_[std::size_t(c.tri)];
     if (segments)
