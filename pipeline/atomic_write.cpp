@@ -56,21 +56,23 @@ void write_all_or_none(const std::vector<Output>& outputs) {
   }
 }
 
+std::string nearest_existing_folder(const std::string& path) {
+  std::error_code ec;
+  fs::path dir(path);
+  while (!dir.empty() && dir != dir.parent_path() && fs::symlink_status(dir, ec).type() == fs::file_type::not_found)
+    dir = dir.parent_path();
+  return dir.empty() ? "." : dir.string();
+}
+
 void require_writable_outputs(const std::vector<std::string>& paths) {
   for (const std::string& path : paths) {
     if (path.empty()) continue;
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw io_failed(path, "is a folder, not a file");
-    // Up past the folders that are not there (write_atomic makes them); anything else in the way
-    // (no permission, a dangling link, a file) is for the probe to report.
-    fs::path dir = fs::path(path).parent_path();
-    while (!dir.empty() && dir != dir.parent_path() &&
-           fs::symlink_status(dir, ec).type() == fs::file_type::not_found)
-      dir = dir.parent_path();
-    if (dir.empty()) dir = ".";
-    std::string probe = (dir / ".writable.XXXXXX").string();  // a name of its own, as mkstemp picks it
+    const std::string dir = nearest_existing_folder(fs::path(path).parent_path().string());
+    std::string probe = (fs::path(dir) / ".writable.XXXXXX").string();  // a name of its own, as mkstemp picks it
     const int fd = ::mkstemp(probe.data());
-    if (fd < 0) throw io_failed(path, "cannot write in " + dir.string() + ": " + std::strerror(errno));
+    if (fd < 0) throw io_failed(path, "cannot write in " + dir + ": " + std::strerror(errno));
     ::close(fd);
     ::unlink(probe.c_str());
   }

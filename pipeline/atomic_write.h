@@ -28,6 +28,12 @@ struct Output {
 /// stage's outputs as new. (Each write is atomic on its own; this makes the set so.)
 void write_all_or_none(const std::vector<Output>& outputs);
 
+/// The folder a file or folder at `path` would be made in: `path` itself if it is there, else the
+/// nearest folder above it that is (write_atomic and solve make the missing ones); "." for a
+/// relative path none of whose folders is there. Only missing folders are climbed past: anything
+/// else in the way (no permission, a dangling link, a file) is returned, for the write to report.
+std::string nearest_existing_folder(const std::string& path);
+
 /// Checks, before any work, that each output can be written where its path says: its folder, or
 /// the nearest folder above it that exists (write_atomic makes the rest), must take a new file.
 /// A stage otherwise found out after its work (minutes of reconstruct or fit) that it could not

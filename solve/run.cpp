@@ -57,19 +57,13 @@ std::string bytes_text(double bytes) {
 // value at its longest and the frames counted twice (they are kept in a temporary file and
 // copied into results.msh), plus the mesh and the state (~100 bytes per node and per element).
 // Checked on the file system out_dir will be on, before it is made.
-void require_room_for_outputs(const Model& m, const std::string& out_dir, double frames, double rows,
-                              bool write_results) {
-  namespace fs = std::filesystem;
+void require_room_for_outputs(const Model& m, std::size_t elements, const std::string& out_dir, double frames,
+                              double rows, bool write_results) {
   const double frame_bytes = write_results ? node_data_bytes_max(m) : 0;
   const double row_bytes = 18.0 * double(9 + 3 * m.contacts.size() + 6 * m.output.history_groups.size());
-  double elements = 0;
-  for (const auto& p : m.parts) elements += double(p.size());
-  const double need = 2 * frames * frame_bytes + rows * row_bytes + 100 * (double(m.n_nodes()) + elements);
+  const double need = 2 * frames * frame_bytes + rows * row_bytes + 100 * double(m.n_nodes() + elements);
   std::error_code ec;
-  fs::path existing = fs::absolute(out_dir, ec);
-  while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
-    existing = existing.parent_path();
-  const fs::space_info space = fs::space(existing, ec);
+  const std::filesystem::space_info space = std::filesystem::space(pipeline::nearest_existing_folder(out_dir), ec);
   if (ec || space.capacity == 0 || need <= double(space.available)) return;  // capacity 0: a file system that does not say
   const std::string frames_text = write_results ? fmt(frames) + " frames of " + bytes_text(frame_bytes) + ", " : "";
   throw pipeline::io_failed(out_dir, "the outputs need about " + bytes_text(need) + " (" + frames_text + fmt(rows) +
@@ -112,15 +106,15 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   const Control& c = m.control;
   const double out_dt = c.output_interval > 0 ? c.output_interval : c.end_time / 10;
   const double hist_dt = c.history_interval > 0 ? c.history_interval : out_dt / 10;
+  std::size_t n_elem = 0;
+  for (const auto& p : m.parts) n_elem += p.size();
   const double span = c.end_time - s.time();  // at most one frame and one history row per step
-  require_room_for_outputs(m, opt.out_dir, std::min(steps_needed, span / out_dt) + 2,
+  require_room_for_outputs(m, n_elem, opt.out_dir, std::min(steps_needed, span / out_dt) + 2,
                            std::min(steps_needed, span / hist_dt) + 2, opt.write_results);
   std::error_code ec;
   fs::create_directories(opt.out_dir, ec);
   if (!fs::is_directory(opt.out_dir)) throw pipeline::io_failed(opt.out_dir, "cannot create the output directory");
   pipeline::require_writable_outputs({(fs::path(opt.out_dir) / "state.bin").string()});  // else found at the end
-  std::size_t n_elem = 0;
-  for (const auto& p : m.parts) n_elem += p.size();
   pipeline::log("solve", std::to_string(m.n_nodes()) + " nodes, " + std::to_string(n_elem) + " elements, " +
                              std::to_string(m.contacts.size()) + " contact pair(s); stable dt " +
                              fmt(s.stable_dt()) + " ms, dt " + fmt(s.dt()) + " ms; mass " + fmt(s.total_mass()) +
