@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
     pipeline::require_distinct_files({{"--in", in}, {"--materials", materials}, {"--out", out}, {"--report", report_path}});
     // 1. Options (run_main has logged them).
     pipeline::require_extension("--out", out, {".msh"});
+    if (!report_path.empty()) pipeline::require_extension("--report", report_path, {".json"});
     opt.kind = kind;
     pipeline::require_writable_outputs({out, report_path});
     // 2. Load surface and stacks.

@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
                                       {"--materials", materials}, {"--out", out}, {"--deck1", deck1}, {"--deck2", deck2}});
     // 1. Load.
     pipeline::require_extension("--out", out, {".msh"});
+    pipeline::require_extension("--deck1", deck1, {".json"});
+    pipeline::require_extension("--deck2", deck2, {".json"});
     pipeline::require_writable_outputs({out, deck1, deck2});
     const auto h = layering::read_fe_model(head);
     meshing::require_layered(h, head, "head");

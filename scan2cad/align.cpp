@@ -196,6 +196,50 @@ AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt) {
   return res;
 }
 
+HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head) {
+  if (head.number_of_faces() == 0) throw pipeline::bad_input("surface", "no faces");
+  const SurfaceSamples s = internal::sample_surface(head, 20000, 11);
+  HeadFrameError e;
+  // Mirror test: a plane other than x = 0 (a turned or shifted head) leaves mirrored samples
+  // tens of mm off the surface; the median ignores asymmetric ears and scan holes.
+  std::vector<Vector3d> mirrored;
+  for (std::size_t i = 0; i < s.p.size() && mirrored.size() < 2000; ++i) mirrored.emplace_back(-s.p[i].x(), s.p[i].y(), s.p[i].z());
+  std::vector<double> d = internal::capped_distances(head, mirrored, 50.0);
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  e.mirror_mm = d[d.size() / 2];
+  // Face and up as align finds them in the plane x = 0.
+  const internal::Plane pl;  // x = 0
+  Vector3d mean;
+  Eigen::Matrix3d cov;
+  internal::sample_moments(s, mean, cov);
+  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - pl.n * pl.n.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P * cov * P);
+  const Vector3d a = eig.eigenvectors().col(2).normalized(), b = pl.n.cross(a).normalized();
+  Vector3d y, z;
+  try {
+    head_axes(s, pl, a, b, y, z);
+  } catch (const pipeline::Error&) {  // no nose, no forehead-chin profile: no face in this plane
+    e.face_deg = e.up_deg = 180.0;
+    return e;
+  }
+  auto angle_deg = [](const Vector3d& u, const Vector3d& v) {
+    return std::acos(std::clamp(u.normalized().dot(v), -1.0, 1.0)) * 180.0 / M_PI;
+  };
+  e.face_deg = angle_deg(z, Vector3d::UnitZ());
+  e.up_deg = angle_deg(y, Vector3d::UnitY());
+  return e;
+}
+
+void require_head_frame(const pipeline::SurfaceMesh& head) {
+  const HeadFrameError e = head_frame_error(head);
+  if (e.mirror_mm <= 5.0 && e.face_deg <= 20.0 && e.up_deg <= 20.0) return;
+  char why[200];
+  std::snprintf(why, sizeof why, "face direction %.0f deg from +z, up %.0f deg from +y, its mirror image in x = 0 %.1f mm off it",
+                e.face_deg, e.up_deg, e.mirror_mm);
+  throw pipeline::Error(pipeline::ErrorKind::bad_input,
+                        std::string("the head is not in the head frame (") + why + "): align it first (align --kind head)");
+}
+
 void apply_transform(pipeline::SurfaceMesh& mesh, const Eigen::Matrix4d& T) {
   for (auto v : mesh.vertices()) {
     const auto& q = mesh.point(v);

@@ -56,6 +56,27 @@ struct AlignResult {
 ///       the object size; ~0.3 s CPU for a 20k-face head, ~1.2 s for a 327k-face one.
 AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt);
 
+/// How far a head that a stage takes as aligned is from the frame, measured as `align` measures
+/// it but with the symmetry plane taken as x = 0 (no search: ~0.1 s for a 50k-face head).
+struct HeadFrameError {
+  double mirror_mm = 0;  ///< median distance to the surface of 2,000 samples mirrored in x = 0 [mm]
+  double face_deg = 0;   ///< angle between the face direction align finds and +z [deg]; 180 if none
+  double up_deg = 0;     ///< angle between the up direction align finds and +y [deg]; 180 if none
+};
+HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head);
+
+/// Refuses a head that is not in the frame, so that landmarks are not detected (or taken from a
+/// user's file) on a raw scan: upside down, detection found a "sellion" on the neck (with a
+/// warning) and landmarks exited 0.
+/// Limits: mirror median 5 mm, face and up within 20 deg. Measured: aligned heads 0.02 mm (NIOSH)
+/// and 0.04-0.05 mm (the five generated heads, reconstructed), 0 deg; turned about y by 10 deg
+/// 3.8 mm (passes), by 15 deg 5.7-6.1 mm; upside down, face down, lying, pitched or rolled 30 deg:
+/// 30-180 deg; shifted 20 mm sideways: 24 mm (tests/landmarks).
+/// @throws pipeline::Error(bad_input) "the head is not in the head frame (face direction 177 deg
+///         from +z, up 177 deg from +y, its mirror image in x = 0 0.0 mm off it): align it first
+///         (align --kind head)".
+void require_head_frame(const pipeline::SurfaceMesh& head);
+
 /// Applies a rigid transform to every vertex of `mesh` (in place).
 void apply_transform(pipeline::SurfaceMesh& mesh, const Eigen::Matrix4d& T);
 

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     const auto kind = scan2cad::parse_align_kind(kind_name);
     const pipeline::Unit unit = pipeline::parse_unit(unit_name);
     pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
+    pipeline::require_extension("--transform", transform_path, {".json"});
     pipeline::require_writable_outputs({out, transform_path});
     pipeline::Progress progress("align", 0);
     // 2. Load (unit detection: a head is ~250 mm, a respirator ~130 mm)

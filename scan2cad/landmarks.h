@@ -29,8 +29,11 @@ const std::vector<std::string>& required_landmarks();
 /// Detects the landmarks on an aligned head.
 /// @param[in] head  closed or open triangle surface in the head frame [mm]; not modified
 /// @return all required landmarks
+/// @pre    `head` is in the frame: on a head that is not (upside down, say) detection may find
+///         landmarks elsewhere with low confidences rather than throw; scan2cad::require_head_frame
+///         (align.h) refuses such a head, and the landmarks program calls it first.
 /// @throws pipeline::Error(algorithm) if the midline profile, the nose, the chin, the ears or
-///         the cheeks cannot be found (e.g. the head is not aligned).
+///         the cheeks cannot be found.
 Landmarks detect_landmarks(const pipeline::SurfaceMesh& head);
 
 /// The landmarks detection could only guess: confidence below `below`, in name order. On the

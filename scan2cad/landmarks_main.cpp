@@ -1,6 +1,7 @@
 // landmarks: detects facial landmarks on an aligned head (output of align) and writes them as
 // JSON (frame of align.h, mm; format in README.md). A user's file (--user) replaces detection
-// after validation (names, numbers, left/right sides, distance to the surface).
+// after validation (names, numbers, left/right sides, distance to the surface). Either way the
+// head must be in the frame (require_head_frame: a raw or upside-down scan is refused, exit 2).
 //
 // Inputs:  --in    aligned head surface (PLY from align, mm)
 //          --user  optional landmarks JSON to use instead of detection
@@ -19,6 +20,7 @@
 #include "pipeline/read_scan.h"
 #include "pipeline/require_landmarks_on_surface.h"
 #include "pipeline/units.h"
+#include "scan2cad/align.h"
 #include "scan2cad/landmarks.h"
 
 int main(int argc, char** argv) {
@@ -29,11 +31,13 @@ int main(int argc, char** argv) {
   cli.option("-u", "--user", &user, "user landmarks (JSON) replacing detection");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--user", user}, {"--out", out}});
+    pipeline::require_extension("--out", out, {".json"});
     pipeline::require_writable_outputs({out});
     // 1. Input (run_main has logged the options)
     pipeline::Progress progress("landmarks", 0);
     const auto head = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(head.points()), "head");
+    pipeline::naming_file(in, [&] { scan2cad::require_head_frame(head); });
     // 2. Detect, or validate the user's file against the head
     scan2cad::Landmarks l;
     if (user.empty()) {

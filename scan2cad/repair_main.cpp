@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}, {"--report", report_path}});
     // 1. Options
     pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
+    if (!report_path.empty()) pipeline::require_extension("--report", report_path, {".json"});
     opt.symmetric_completion = !no_symmetry;
     const auto kind = kind_unit.kind();
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();

@@ -8,6 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pipeline/read_scan.h"
+#include "pipeline/write_mesh.h"
+#include "scan2cad/align.h"
 #include "../niosh_medium_ply.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
@@ -93,4 +96,27 @@ TEST(landmarks_cli, user_file_replaces_detection) {
   user["landmarks"]["menton"]["position"][1] = -500.0;
   write(dir / "far.json", user.dump());
   expect_bad_input("--in " + head + " --user " + (dir / "far.json").string(), (dir / "far.json").string());
+}
+
+// A head that is not in the head frame (here NIOSH medium upside down) is refused before detection
+// or a user's file is used: detection found a "sellion" on the neck, with a warning, and exit 0.
+TEST(landmarks_cli, a_head_not_in_the_frame_exits_2_before_any_landmark) {
+  const std::string head = niosh_medium_ply(dir);
+  auto mesh = pipeline::read_surface_mesh(head);
+  Eigen::Matrix4d flip = Eigen::Matrix4d::Identity();
+  flip(1, 1) = flip(2, 2) = -1;  // 180 deg about x: face down, chin up
+  scan2cad::apply_transform(mesh, flip);
+  const std::string upside_down = (dir / "upside_down.ply").string();
+  pipeline::write_surface_mesh(upside_down, mesh);
+  expect_bad_input("--in " + upside_down, upside_down);
+  EXPECT_NE(error_lines().at(0).find(": the head is not in the head frame (face direction 17"), std::string::npos)
+      << error_lines().at(0);
+  // The same with a user's file that is otherwise valid for that head: its points mirror the
+  // detected ones on the upright head, so they lie on the upside-down surface.
+  ASSERT_EQ(run("--in " + head + " --out " + out()), 0);
+  nlohmann::json user = read_json(out());
+  for (auto& [name, p] : user["landmarks"].items())
+    for (int k : {1, 2}) p["position"][k] = -p["position"][k].get<double>();
+  write(dir / "upside_down_user.json", user.dump());
+  expect_bad_input("--in " + upside_down + " --user " + (dir / "upside_down_user.json").string(), upside_down);
 }

@@ -157,3 +157,43 @@ TEST(read_landmarks, rejects_a_confidence_that_is_not_a_number) {
   EXPECT_EQ(bad_input_message([&] { scan2cad::read_landmarks(path.string()); }, path.string()),
             "landmark sellion: confidence \"high\", expected a number 0..1");
 }
+
+// A head that is not in the frame is refused before any landmark is looked for: upside down, the
+// detection found a "sellion" on the neck (confidence 0, a warning) and landmarks exited 0.
+// Aligned heads pass with a wide margin; each pose below is clearly out of the frame.
+TEST(require_head_frame, refuses_a_head_turned_flipped_or_shifted_out_of_the_frame) {
+  for (const char* name : {"NIOSH_medium_20k.stl", "NIOSH_large_20k.stl"}) {
+    SCOPED_TRACE(name);
+    const auto head = aligned_head(name);
+    const auto aligned = scan2cad::head_frame_error(head);
+    std::printf("%s aligned: mirror %.2f mm, face %.2f deg, up %.2f deg\n", name, aligned.mirror_mm,
+                aligned.face_deg, aligned.up_deg);
+    EXPECT_NO_THROW(scan2cad::require_head_frame(head));
+    struct Pose {
+      const char* what;
+      Eigen::Vector3d axis;
+      double angle_deg;
+      Eigen::Vector3d shift_mm;
+    };
+    for (const Pose& pose : {Pose{"upside down (180 deg about z)", Eigen::Vector3d::UnitZ(), 180, {0, 0, 0}},
+                             Pose{"face down (180 deg about x)", Eigen::Vector3d::UnitX(), 180, {0, 0, 0}},
+                             Pose{"looking sideways (90 deg about y)", Eigen::Vector3d::UnitY(), 90, {0, 0, 0}},
+                             Pose{"turned 30 deg about y", Eigen::Vector3d::UnitY(), 30, {0, 0, 0}},
+                             Pose{"turned 20 deg about y", Eigen::Vector3d::UnitY(), 20, {0, 0, 0}},
+                             Pose{"pitched 30 deg about x", Eigen::Vector3d::UnitX(), 30, {0, 0, 0}},
+                             Pose{"rolled 30 deg about z", Eigen::Vector3d::UnitZ(), 30, {0, 0, 0}},
+                             Pose{"lying (90 deg about x)", Eigen::Vector3d::UnitX(), 90, {0, 0, 0}},
+                             Pose{"shifted 20 mm in x", Eigen::Vector3d::UnitX(), 0, {20, 0, 0}}}) {
+      auto posed = head;
+      Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+      T.block<3, 3>(0, 0) = Eigen::AngleAxisd(pose.angle_deg * M_PI / 180.0, pose.axis).toRotationMatrix();
+      T.block<3, 1>(0, 3) = pose.shift_mm;
+      scan2cad::apply_transform(posed, T);
+      const auto e = scan2cad::head_frame_error(posed);
+      std::printf("%s %s: mirror %.2f mm, face %.1f deg, up %.1f deg\n", name, pose.what, e.mirror_mm, e.face_deg,
+                  e.up_deg);
+      EXPECT_EQ(bad_input_message([&] { scan2cad::require_head_frame(posed); }).rfind("the head is not in the head frame (", 0), 0u)
+          << pose.what;
+    }
+  }
+}

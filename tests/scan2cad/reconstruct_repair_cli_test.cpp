@@ -222,7 +222,7 @@ TEST(repair_cli, an_edge_too_short_for_the_surface_is_a_usage_error) {
 // now; until then the mesh was written and removed again when the report failed
 // (write_all_or_none, whose own test covers a write failing after another).
 TEST(repair_cli, an_unwritable_report_leaves_no_mesh) {
-  const std::string out = (dir / "no_report.ply").string(), report = (dir / "report_is_a_folder").string();
+  const std::string out = (dir / "no_report.ply").string(), report = (dir / "report_is_a_folder.json").string();
   std::filesystem::create_directories(report);
   const CliRun r = run("repair --in " + niosh_medium + " --kind head --edge 4 --out " + out + " --report " + report);
   EXPECT_EQ(r.code, 4) << r.err;
