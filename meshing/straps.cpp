@@ -50,7 +50,7 @@ void attachments(const FeModel& resp, const Eigen::Vector3d& shift, Attach* top,
 }
 
 double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& skin, const Attach& a, double back_y,
-                 const StrapOptions& opt, const std::string& name, FeModel* out) {
+                 const StrapOptions& opt, const std::string& name, FeModel* out, double* outline_mm) {
   // Point on the back of the head (sagittal plane, height back_y): the rear-most skin node there.
   Eigen::Vector3d back(0, back_y, 1e300);
   for (const auto& p : head.nodes)
@@ -155,6 +155,13 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
   std::size_t ib = 0;
   for (std::size_t i = 0; i < path.size(); ++i)
     if ((path[i] - back).norm() < (path[ib] - back).norm()) ib = i;
+  *outline_mm = s.back();
+  const double stretch_percent = 100.0 * (s.back() / opt.length_mm - 1.0);
+  if (stretch_percent > opt.max_stretch_percent)
+    throw pipeline::bad_input("--length-mm", name + ": a " + pipeline::format_number(opt.length_mm) + " mm strap would stretch " +
+                                                 pipeline::format_number(std::round(stretch_percent)) + " % to reach round the head (" +
+                                                 pipeline::format_number(std::round(s.back())) + " mm between its attachment points), more than " +
+                                                 pipeline::format_number(opt.max_stretch_percent) + " % (--max-stretch-percent): is the length in mm?");
   const double s0 = s[ib] - 0.5 * opt.length_mm, s1 = s[ib] + 0.5 * opt.length_mm;
   if (s0 < 0 || s1 > s.back())
     throw pipeline::bad_input("--length-mm", name + ": length " + pipeline::format_number(opt.length_mm) + " mm exceeds the head outline between its attachment points (" + pipeline::format_number(s.back()) + " mm)");
@@ -227,9 +234,10 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
     if (crown_y > -1e299) top_y = std::min(top_y, crown_y - 15);
   }
   r.top_back_y = top_y;
-  r.top_length = lay_strap(head, skin, top, top_y, opt, "strap_top", &out);
+  r.top_length = lay_strap(head, skin, top, top_y, opt, "strap_top", &out, &r.top_outline);
   const int bottom_base = int(out.nodes.size());
-  r.bottom_length = lay_strap(head, skin, bottom, lm.at("menton").y() - opt.bottom_below_menton_mm, opt, "strap_bottom", &out);
+  r.bottom_length = lay_strap(head, skin, bottom, lm.at("menton").y() - opt.bottom_below_menton_mm, opt, "strap_bottom", &out,
+                             &r.bottom_outline);
   // Detect and fix: a quad can still cut through a thin skin feature (ear rim) between its nodes,
   // which are all off the skin. Push the nodes of every crossing strap face 1 mm further out along
   // the direction from their closest skin point, until no strap face crosses the skin.

@@ -21,6 +21,11 @@ struct StrapOptions {
   double thickness_mm = 1;    ///< shell thickness [mm] (written to the deck by assemble)
   double element_mm = 3;      ///< target element length along the strap [mm]
   double gap_mm = 1;          ///< minimum distance of the band's mid-surface to the skin [mm] (+ half the thickness)
+  /// Largest stretch [% of length_mm] the head's outline between the attachments may ask of a
+  /// strap. The 300 mm default is stretched 46–62 % (top) and 14–43 % (bottom) on the five
+  /// generated heads, and the strap material is linear elastic; a 50 mm strap (a length in cm
+  /// typed as mm?) would be stretched ~830 %, and was laid without a word.
+  double max_stretch_percent = 100;
   double top_above_sellion_mm = 25;   ///< height of the top strap at the back, above the sellion [mm]
   double bottom_below_menton_mm = 5;  ///< height of the bottom strap at the back of the neck, below the menton
   PlaceOptions place;         ///< where assemble puts the respirator (attachment points follow it)
@@ -28,6 +33,9 @@ struct StrapOptions {
 
 struct StrapReport {
   double top_length = 0, bottom_length = 0;  ///< measured centre-line lengths [mm]
+  /// The head's outline between each strap's attachment points (offset by the strap's lift): the
+  /// least length the strap is stretched to when worn [mm].
+  double top_outline = 0, bottom_outline = 0;
   double min_gap = 0;                        ///< minimum signed distance of any strap node to the skin [mm]
   Eigen::Vector3d min_gap_at = Eigen::Vector3d::Zero();  ///< the strap node where min_gap is measured [mm]
   std::size_t quads = 0;
@@ -40,7 +48,8 @@ struct StrapReport {
 /// `gap_mm + thickness/2`, and is centred on the back of the head.
 /// @return groups strap_top, strap_bottom (quads), strap_<s>_end_<side> (2-node lines across each end),
 ///   strap_<s>_attach_<side> (one point each: the attachment point on the placed rim); side left = +x.
-/// @throws Error(bad_input) if a strap is longer than the head's outline between its attachments.
+/// @throws Error(bad_input) if a strap is longer than the head's outline between its attachments,
+///         or so short that the outline stretches it more than `max_stretch_percent`.
 layering::FeModel make_straps(const layering::FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
                               const layering::FeModel& resp, const StrapOptions& opt, StrapReport* report);
 

@@ -23,7 +23,9 @@ int main(int argc, char** argv) {
       .option("-L", "--length-mm", &opt.length_mm, "unstretched strap length [mm]", 50, 1000)
       .option("-w", "--width-mm", &opt.width_mm, "strap width [mm]", 1, 30)
       .option("-t", "--thickness-mm", &opt.thickness_mm, "strap thickness [mm]", 0.1, 5)
-      .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20);
+      .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20)
+      .option("-s", "--max-stretch-percent", &opt.max_stretch_percent,
+              "refuse a strap the head's outline stretches by more than this [% of its length]", 0, 1000);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--head", head}, {"--landmarks", landmarks}, {"--respirator", resp}, {"--out", out}});
     // 1. Load.
@@ -42,8 +44,11 @@ int main(int argc, char** argv) {
     const auto straps = meshing::make_straps(h, lm, r, opt, &rep);
     // 3. Write.
     layering::write_fe_model(straps, out);
-    std::printf("straps: %s: %zu quads, top %.1f mm (y = %.1f mm at the back), bottom %.1f mm, min distance to skin %.2f mm\n",
-                out.c_str(), rep.quads, rep.top_length, rep.top_back_y, rep.bottom_length, rep.min_gap);
+    std::printf("straps: %s: %zu quads, top %.1f mm (y = %.1f mm at the back; outline %.0f mm: stretched >= %.0f %%), "
+                "bottom %.1f mm (outline %.0f mm: >= %.0f %%), min distance to skin %.2f mm\n",
+                out.c_str(), rep.quads, rep.top_length, rep.top_back_y, rep.top_outline,
+                100 * (rep.top_outline / opt.length_mm - 1), rep.bottom_length, rep.bottom_outline,
+                100 * (rep.bottom_outline / opt.length_mm - 1), rep.min_gap);
     return 0;
   });
 }

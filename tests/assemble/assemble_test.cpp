@@ -94,6 +94,29 @@ TEST(make_straps, straps_have_requested_length_and_stay_off_the_skin) {
   EXPECT_THROW(meshing::make_straps(s.head, s.lm, s.resp, too_long, nullptr), pipeline::Error);
 }
 
+// The report's outlines are the least lengths the straps are stretched to; a strap so short that
+// its outline stretches it more than max_stretch_percent (default 100 %) is refused, naming the
+// stretch, and is laid once the limit allows it.
+TEST(make_straps, a_strap_the_head_would_stretch_past_the_limit_is_refused) {
+  auto& s = scene();
+  meshing::StrapOptions o;
+  meshing::StrapReport rep;
+  meshing::make_straps(s.head, s.lm, s.resp, o, &rep);  // 300 mm
+  std::printf("outlines: top %.1f mm, bottom %.1f mm\n", rep.top_outline, rep.bottom_outline);
+  EXPECT_GT(rep.top_outline, o.length_mm);  // a 300 mm strap reaches neither pair of attachments unstretched
+  EXPECT_GT(rep.bottom_outline, o.length_mm);
+  EXPECT_LT(rep.top_outline, 2 * o.length_mm);
+  // Just past the top outline's limit: refused on the top strap, with the stretch in the message.
+  o.length_mm = rep.top_outline / 2 - 1;
+  const std::string message = error_message(pipeline::ErrorKind::bad_input, [&] { meshing::make_straps(s.head, s.lm, s.resp, o, nullptr); });
+  EXPECT_EQ(message.rfind("--length-mm: strap_top: a " + pipeline::format_number(o.length_mm) + " mm strap would stretch 10", 0), 0u)
+      << message;
+  EXPECT_NE(message.find("more than 100 % (--max-stretch-percent): is the length in mm?"), std::string::npos) << message;
+  o.max_stretch_percent = 110;
+  meshing::make_straps(s.head, s.lm, s.resp, o, &rep);
+  EXPECT_NEAR(rep.top_length, o.length_mm, 0.02 * o.length_mm);
+}
+
 // The top strap's back point is raised to clear the ears by extrapolating from the attachments;
 // with a low attachment that once asked for a point above the crown (NIOSH medium with the
 // generated one-size cup: y = 149 mm, "no skin at the back of the head"). Tragia raised by 40 mm
