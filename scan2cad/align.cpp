@@ -48,6 +48,17 @@ double support(const std::vector<Vector3d>& mid, const Vector3d& tip, const Vect
   return best;
 }
 
+/// Principal axes of the surface within the symmetry plane: a the longer, b = n × a.
+void in_plane_axes(const SurfaceSamples& s, const internal::Plane& pl, Vector3d& a, Vector3d& b) {
+  Vector3d mean;
+  Eigen::Matrix3d cov;
+  internal::sample_moments(s, mean, cov);
+  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - pl.n * pl.n.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P * cov * P);
+  a = eig.eigenvectors().col(2).normalized();
+  b = pl.n.cross(a).normalized();
+}
+
 /// Head: face direction z and up y in the symmetry plane (unit vectors, in-plane).
 void head_axes(const SurfaceSamples& s, const internal::Plane& pl, const Vector3d& a, const Vector3d& b,
                Vector3d& y, Vector3d& z) {
@@ -163,12 +174,8 @@ AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt) {
   const internal::Plane& pl = sym.plane;
   // 2. In-plane principal axes of the surface.
   const SurfaceSamples s = internal::sample_surface(mesh, 20000, 11);
-  Vector3d mean;
-  Eigen::Matrix3d cov;
-  internal::sample_moments(s, mean, cov);
-  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - pl.n * pl.n.transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P * cov * P);
-  const Vector3d a = eig.eigenvectors().col(2).normalized(), b = pl.n.cross(a).normalized();
+  Vector3d a, b;
+  in_plane_axes(s, pl, a, b);
   Vector3d y = Vector3d::Zero(), z = Vector3d::Zero();  // both set by the axes functions (or they throw)
   if (opt.kind == AlignKind::head)
     head_axes(s, pl, a, b, y, z);
@@ -209,12 +216,8 @@ HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head) {
   e.mirror_mm = d[d.size() / 2];
   // Face and up as align finds them in the plane x = 0.
   const internal::Plane pl;  // x = 0
-  Vector3d mean;
-  Eigen::Matrix3d cov;
-  internal::sample_moments(s, mean, cov);
-  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - pl.n * pl.n.transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P * cov * P);
-  const Vector3d a = eig.eigenvectors().col(2).normalized(), b = pl.n.cross(a).normalized();
+  Vector3d a, b;
+  in_plane_axes(s, pl, a, b);
   Vector3d y, z;
   try {
     head_axes(s, pl, a, b, y, z);
