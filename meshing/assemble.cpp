@@ -25,25 +25,13 @@ const Block& need(const FeModel& m, const std::string& name, const std::string& 
   return *b;
 }
 
-// Nodes of the respirator rim: "respirator_rim" lines, or boundary edges of respirator_inner.
+// Nodes of the respirator rim (layers writes its "respirator_rim" lines; require_layered asks for
+// them before any placement, and the straps' attachments are rim nodes too).
 std::vector<int> rim_nodes(const FeModel& resp) {
-  std::vector<int> out;
-  if (const Block* r = resp.find("respirator_rim")) {
-    out = r->conn;
-  } else {
-    const Block& in = need(resp, "respirator_inner", "respirator");
-    std::map<std::pair<int, int>, int> e;
-    for (std::size_t t = 0; t < in.size(); ++t)
-      for (int v = 0; v < 3; ++v) {
-        int a = in.conn[3 * t + v], b = in.conn[3 * t + (v + 1) % 3];
-        e[{std::min(a, b), std::max(a, b)}]++;
-      }
-    for (auto& [k, n] : e)
-      if (n == 1) out.insert(out.end(), {k.first, k.second});
-  }
+  std::vector<int> out = need(resp, "respirator_rim", "respirator").conn;
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
-  if (out.empty()) throw pipeline::bad_input("respirator", "respirator_inner has no rim (closed surface?)");
+  if (out.empty()) throw pipeline::bad_input("respirator", "respirator_rim has no nodes");
   return out;
 }
 

@@ -41,7 +41,7 @@ struct PlaceOptions {
 /// sellion/menton; y: rim top at sellion − bridge_offset; z: bisection until the minimum
 /// respirator–skin distance equals gap_mm (±0.001 mm).
 /// @param head  model with a "head_skin" triangle group (outward) or triangle groups of parts
-/// @param resp  model with a "respirator_inner" group (and "respirator_rim" lines if layered)
+/// @param resp  model with "respirator_inner" and "respirator_rim" groups (as layers writes them)
 /// @param gap_out  measured minimum gap after placement [mm]
 /// @throws Error(bad_input) missing groups; Error(algorithm) if no placement reaches the gap.
 Eigen::Vector3d place_respirator(const layering::FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
