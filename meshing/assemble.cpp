@@ -19,22 +19,6 @@ using layering::Block;
 using layering::FeModel;
 using Tris = std::vector<std::array<int, 3>>;
 
-const Block& need(const FeModel& m, const std::string& name, const std::string& what) {
-  const Block* b = m.find(name);
-  if (!b) throw pipeline::bad_input(what, "no physical group \"" + name + "\"");
-  return *b;
-}
-
-// Nodes of the respirator rim (layers writes its "respirator_rim" lines; require_layered asks for
-// them before any placement, and the straps' attachments are rim nodes too).
-std::vector<int> rim_nodes(const FeModel& resp) {
-  std::vector<int> out = need(resp, "respirator_rim", "respirator").conn;
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  if (out.empty()) throw pipeline::bad_input("respirator", "respirator_rim has no nodes");
-  return out;
-}
-
 // All respirator element faces as triangles (wedges: their 8 triangles; shells as they are).
 Tris body_triangles(const FeModel& m) {
   Tris t;
@@ -152,6 +136,15 @@ void require_landmarks_near_skin(const FeModel& head, const std::map<std::string
                                           ") is " + pipeline::format_number(d) + " mm from the head's skin, expected <= " +
                                           pipeline::format_number(max_mm) +
                                           " mm (landmarks of another head, or not in align's frame?)");
+}
+
+std::vector<int> rim_nodes(const FeModel& resp) {
+  const Block* rim = resp.find("respirator_rim");
+  std::vector<int> out = rim ? rim->conn : std::vector<int>{};
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (out.empty()) throw pipeline::bad_input("respirator", "no respirator_rim group (run layers --kind respirator first)");
+  return out;
 }
 
 double respirator_gap(const FeModel& head, const FeModel& resp) { return Gap(head, resp).at(Eigen::Vector3d::Zero()); }

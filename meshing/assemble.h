@@ -51,6 +51,11 @@ Eigen::Vector3d place_respirator(const layering::FeModel& head, const std::map<s
 /// [mm]; negative if a respirator node lies inside the head.
 double respirator_gap(const layering::FeModel& head, const layering::FeModel& resp);
 
+/// Nodes of the respirator's rim: its "respirator_rim" lines as layers writes them, sorted, once each.
+/// @throws pipeline::Error(bad_input) "respirator: no respirator_rim group (run layers --kind
+///         respirator first)" if the group is missing or empty.
+std::vector<int> rim_nodes(const layering::FeModel& resp);
+
 /// Triangles (outward) of the head's contact surface: "head_skin", or every triangle group.
 std::vector<std::array<int, 3>> head_surface(const layering::FeModel& head);
 

@@ -29,9 +29,7 @@ struct Attach {
 
 // Rim nodes nearest to the heights ymid ± H/4 on each side: the top and bottom strap attachments.
 void attachments(const FeModel& resp, const Eigen::Vector3d& shift, Attach* top, Attach* bottom) {
-  std::vector<int> rim;
-  if (const Block* r = resp.find("respirator_rim")) rim = r->conn;
-  else throw pipeline::bad_input("respirator", "no respirator_rim group (run layers --kind respirator first)");
+  const std::vector<int> rim = rim_nodes(resp);
   double ylo = 1e300, yhi = -1e300;
   for (int i : rim) ylo = std::min(ylo, resp.nodes[i].y()), yhi = std::max(yhi, resp.nodes[i].y());
   const double ymid = 0.5 * (ylo + yhi), q = 0.25 * (yhi - ylo);

@@ -20,6 +20,10 @@ namespace {
 using Eigen::Vector3d;
 using internal::SurfaceSamples;
 
+/// Surface samples (and their seed) of the in-plane axes and the face search.
+constexpr std::size_t axes_samples = 20000;
+constexpr unsigned axes_seed = 11;
+
 /// Extent of `values` between the 2nd and 98th percentiles (robust to stray samples).
 double robust_range(std::vector<double> v) {
   if (v.size() < 10) return 0.0;
@@ -173,7 +177,7 @@ AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt) {
   const auto sym = internal::find_symmetry_plane(mesh, std::size_t(opt.samples));
   const internal::Plane& pl = sym.plane;
   // 2. In-plane principal axes of the surface.
-  const SurfaceSamples s = internal::sample_surface(mesh, 20000, 11);
+  const SurfaceSamples s = internal::sample_surface(mesh, axes_samples, axes_seed);
   Vector3d a, b;
   in_plane_axes(s, pl, a, b);
   Vector3d y = Vector3d::Zero(), z = Vector3d::Zero();  // both set by the axes functions (or they throw)
@@ -205,7 +209,7 @@ AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt) {
 
 HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head) {
   if (head.number_of_faces() == 0) throw pipeline::bad_input("surface", "no faces");
-  const SurfaceSamples s = internal::sample_surface(head, 20000, 11);
+  const SurfaceSamples s = internal::sample_surface(head, axes_samples, axes_seed);
   HeadFrameError e;
   // Mirror test: a plane other than x = 0 (a turned or shifted head) leaves mirrored samples
   // tens of mm off the surface; the median ignores asymmetric ears and scan holes.
@@ -216,32 +220,37 @@ HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head) {
   e.mirror_mm = d[d.size() / 2];
   // Face and up as align finds them in the plane x = 0.
   const internal::Plane pl;  // x = 0
-  Vector3d a, b;
+  Vector3d a, b, y, z;
   in_plane_axes(s, pl, a, b);
-  Vector3d y, z;
   try {
     head_axes(s, pl, a, b, y, z);
-  } catch (const pipeline::Error&) {  // no nose, no forehead-chin profile: no face in this plane
-    e.face_deg = e.up_deg = 180.0;
+  } catch (const pipeline::Error& err) {  // no nose, no forehead-chin profile in this plane
+    if (err.kind != pipeline::ErrorKind::algorithm) throw;
     return e;
   }
   auto angle_deg = [](const Vector3d& u, const Vector3d& v) {
     return std::acos(std::clamp(u.normalized().dot(v), -1.0, 1.0)) * 180.0 / M_PI;
   };
+  e.face_found = true;
   e.face_deg = angle_deg(z, Vector3d::UnitZ());
   e.up_deg = angle_deg(y, Vector3d::UnitY());
   return e;
 }
 
-void require_head_frame(const pipeline::SurfaceMesh& head) {
-  const HeadFrameError e = head_frame_error(head);
-  if (e.mirror_mm <= 5.0 && e.face_deg <= 20.0 && e.up_deg <= 20.0) return;
+void require_head_frame(const HeadFrameError& e) {
+  const bool angles_ok = !e.face_found || (e.face_deg <= head_frame_max_angle_deg && e.up_deg <= head_frame_max_angle_deg);
+  if (e.mirror_mm <= head_frame_max_mirror_mm && angles_ok) return;
   char why[200];
-  std::snprintf(why, sizeof why, "face direction %.0f deg from +z, up %.0f deg from +y, its mirror image in x = 0 %.1f mm off it",
-                e.face_deg, e.up_deg, e.mirror_mm);
+  if (e.face_found)
+    std::snprintf(why, sizeof why, "face direction %.0f deg from +z, up %.0f deg from +y, its mirror image in x = 0 %.1f mm off it",
+                  e.face_deg, e.up_deg, e.mirror_mm);
+  else
+    std::snprintf(why, sizeof why, "no face found in the plane x = 0, its mirror image in x = 0 %.1f mm off it", e.mirror_mm);
   throw pipeline::Error(pipeline::ErrorKind::bad_input,
                         std::string("the head is not in the head frame (") + why + "): align it first (align --kind head)");
 }
+
+void require_head_frame(const pipeline::SurfaceMesh& head) { require_head_frame(head_frame_error(head)); }
 
 void apply_transform(pipeline::SurfaceMesh& mesh, const Eigen::Matrix4d& T) {
   for (auto v : mesh.vertices()) {

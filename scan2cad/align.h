@@ -59,22 +59,28 @@ AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt);
 /// How far a head that a stage takes as aligned is from the frame, measured as `align` measures
 /// it but with the symmetry plane taken as x = 0 (no search: ~0.1 s for a 50k-face head).
 struct HeadFrameError {
-  double mirror_mm = 0;  ///< median distance to the surface of 2,000 samples mirrored in x = 0 [mm]
-  double face_deg = 0;   ///< angle between the face direction align finds and +z [deg]; 180 if none
-  double up_deg = 0;     ///< angle between the up direction align finds and +y [deg]; 180 if none
+  double mirror_mm = 0;     ///< median distance to the surface of 2,000 samples mirrored in x = 0 [mm]
+  bool face_found = false;  ///< align's face search found a nose and a forehead-chin profile in x = 0
+  double face_deg = 0;      ///< angle between the face direction found and +z [deg] (if face_found)
+  double up_deg = 0;        ///< angle between the up direction found and +y [deg] (if face_found)
 };
 HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head);
 
+/// Limits of require_head_frame. Mirror: aligned heads 0.02 mm (NIOSH) and 0.04-0.05 mm (the five
+/// generated case heads, reconstructed scans); a head turned about y by 10 deg 3.8 mm, by 20 deg
+/// 6.9-8.2 mm; 5 mm leaves room for a real face's asymmetry. Angles: align is within 2 deg.
+inline constexpr double head_frame_max_mirror_mm = 5.0;
+inline constexpr double head_frame_max_angle_deg = 20.0;
+
 /// Refuses a head that is not in the frame, so that landmarks are not detected (or taken from a
 /// user's file) on a raw scan: upside down, detection found a "sellion" on the neck (with a
-/// warning) and landmarks exited 0.
-/// Limits: mirror median 5 mm, face and up within 20 deg. Measured: aligned heads 0.02 mm (NIOSH)
-/// and 0.04-0.05 mm (the five generated heads, reconstructed), 0 deg; turned about y by 10 deg
-/// 3.8 mm (passes), by 15 deg 5.7-6.1 mm; upside down, face down, lying, pitched or rolled 30 deg:
-/// 30-180 deg; shifted 20 mm sideways: 24 mm (tests/landmarks).
+/// warning) and landmarks exited 0. A turned, rolled or shifted head fails the mirror test; an
+/// upside-down, face-down or pitched one the angles. Where no face is found in x = 0 (a cropped
+/// or unusual head, for which a user may give landmarks) only the mirror test applies.
 /// @throws pipeline::Error(bad_input) "the head is not in the head frame (face direction 177 deg
 ///         from +z, up 177 deg from +y, its mirror image in x = 0 0.0 mm off it): align it first
 ///         (align --kind head)".
+void require_head_frame(const HeadFrameError& e);
 void require_head_frame(const pipeline::SurfaceMesh& head);
 
 /// Applies a rigid transform to every vertex of `mesh` (in place).

@@ -198,30 +198,3 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
 
   expect_stages_refuse_corrupted_inputs(build / "cases/large_onesize");
 }
-
-// Every JSON output of the stages is named .json: `landmarks --out x.ply` wrote JSON into a file
-// that the next stage (and a viewer) takes for a mesh. The name is checked with the other usage
-// checks, before any input is read (the inputs here do not exist): exit 1, one line, no file.
-TEST(stage_outputs, a_json_output_not_named_json_is_a_usage_error_before_any_work) {
-  const fs::path dir = scratch_dir() / "json_outputs";
-  fs::create_directories(dir);
-  const std::string d = dir.string() + "/", none = d + "absent";
-  const std::pair<std::string, std::string> runs[] = {
-      {"landmarks --in " + none + ".ply --out " + d + "l.ply", "--out: '" + d + "l.ply'"},
-      {"align --in " + none + ".ply --out " + d + "a.ply --transform " + d + "t.txt", "--transform: '" + d + "t.txt'"},
-      {"repair --in " + none + ".ply --out " + d + "r.ply --report " + d + "r.ply.txt", "--report: '" + d + "r.ply.txt'"},
-      {"layers --in " + none + ".msh --materials " + none + ".json --out " + d + "m.msh --report " + d + "rep",
-       "--report: '" + d + "rep'"},
-      {"assemble --head " + none + "1.msh --respirator " + none + "2.msh --straps " + none + "3.msh --landmarks " + none +
-           ".json --materials " + none + "m.json --out " + d + "model.msh --deck1 " + d + "s1.json --deck2 " + d + "s2.msh",
-       "--deck2: '" + d + "s2.msh'"}};
-  for (const auto& [args, named] : runs) {
-    const std::string log = d + "err.txt";
-    EXPECT_EQ(run_command(std::string(BIN_DIR) + "/" + args + " 2> " + log), 1) << args;
-    const std::string program = args.substr(0, args.find(' '));
-    EXPECT_EQ(last_line_of(log), program + ": " + named + " must end in .json (see '" + program + " --help')");
-    std::size_t files = 0;
-    for (const auto& e : fs::directory_iterator(dir)) files += e.path().filename() != "err.txt";
-    EXPECT_EQ(files, 0u) << args;
-  }
-}

@@ -111,12 +111,25 @@ TEST(landmarks_cli, a_head_not_in_the_frame_exits_2_before_any_landmark) {
   expect_bad_input("--in " + upside_down, upside_down);
   EXPECT_NE(error_lines().at(0).find(": the head is not in the head frame (face direction 17"), std::string::npos)
       << error_lines().at(0);
-  // The same with a user's file that is otherwise valid for that head: its points mirror the
-  // detected ones on the upright head, so they lie on the upside-down surface.
+  // A user's file is refused the same way. Head and points turned together by 30 deg about y: the
+  // points stay on the surface and on their sides (what read_landmarks and the surface check
+  // ask), so only the frame check can refuse them.
   ASSERT_EQ(run("--in " + head + " --out " + out()), 0);
   nlohmann::json user = read_json(out());
-  for (auto& [name, p] : user["landmarks"].items())
-    for (int k : {1, 2}) p["position"][k] = -p["position"][k].get<double>();
-  write(dir / "upside_down_user.json", user.dump());
-  expect_bad_input("--in " + upside_down + " --user " + (dir / "upside_down_user.json").string(), upside_down);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (auto& [name, p] : user["landmarks"].items()) {
+    const Eigen::Vector3d q = turn * Eigen::Vector3d(p["position"][0], p["position"][1], p["position"][2]);
+    p["position"] = {q.x(), q.y(), q.z()};
+  }
+  write(dir / "turned_user.json", user.dump());
+  auto turned_mesh = pipeline::read_surface_mesh(head);
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  T.block<3, 3>(0, 0) = turn;
+  scan2cad::apply_transform(turned_mesh, T);
+  const std::string turned = (dir / "turned.ply").string();
+  pipeline::write_surface_mesh(turned, turned_mesh);
+  expect_bad_input("--in " + turned + " --user " + (dir / "turned_user.json").string(), turned);
+  EXPECT_NE(error_lines().at(0).find(": the head is not in the head frame ("), std::string::npos) << error_lines().at(0);
+  // The same file on the upright head passes the frame check and is refused only as far from it.
+  expect_bad_input("--in " + head + " --user " + (dir / "turned_user.json").string(), (dir / "turned_user.json").string());
 }
