@@ -246,6 +246,28 @@ TEST(straps_cli, missing_head_gives_one_error_line_exit_2_no_output) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A length in cm typed as mm: the program refuses it with the stretch it would need (exit 2, one
+// line, no output); --max-stretch-percent is the way past the limit.
+TEST(straps_cli, a_strap_stretched_past_the_limit_gives_one_error_line_exit_2_no_output) {
+  const auto dir = scratch_dir() / "straps_cli";
+  std::filesystem::create_directories(dir);
+  const std::string out = (dir / "straps.msh").string(), head = (dir / "head.msh").string(),
+                    resp = (dir / "resp.msh").string();
+  layering::write_fe_model(scene().head, head);
+  layering::write_fe_model(scene().resp, resp);
+  const std::string args = "straps --head " + head + " --landmarks " + scene().landmarks_path + " --respirator " + resp +
+                           " --out " + out + " --length-mm 50";
+  std::vector<std::string> err;
+  EXPECT_EQ(run_stage(args, &err), 2);
+  ASSERT_EQ(err.size(), 1u);
+  EXPECT_EQ(err[0].rfind("straps: --length-mm: strap_top: a 50 mm strap would stretch ", 0), 0u) << err[0];
+  EXPECT_NE(err[0].find("more than 100 % (--max-stretch-percent): is the length in mm?"), std::string::npos) << err[0];
+  EXPECT_FALSE(std::filesystem::exists(out));
+  err.clear();
+  EXPECT_EQ(run_stage(args + " --max-stretch-percent 1000", &err), 0);
+  EXPECT_TRUE(std::filesystem::exists(out));
+}
+
 TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outputs) {
   const auto dir = scratch_dir() / "assemble_cli";
   std::filesystem::create_directories(dir);
