@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
     const pipeline::SurfaceMesh fitted = pipeline::naming_file(
         in, [&] { return scan2cad::fit_parts(mesh, kind, edge_mm, refine_above_mm, &refined_faces); });
     if (refined_faces > 0)
-      pipeline::log("fit", "refined at " + std::to_string(edge_mm / 2) + " mm: " + std::to_string(refined_faces) +
-                               " input faces where the uniform fit missed by more than " + std::to_string(refine_above_mm) + " mm");
+      pipeline::log("fit", "refined at " + pipeline::format_number(edge_mm / 2) + " mm: " + std::to_string(refined_faces) +
+                               " input faces where the uniform fit missed by more than " + pipeline::format_number(refine_above_mm) + " mm");
     // 3. Deviation, then write
     progress.step("measuring the deviation");
     for (const auto& d : scan2cad::fit_deviation(mesh, fitted, kind)) {

@@ -691,7 +691,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       clock.start("cutting out Poisson's fill of the scan holes");
       st.faces_cut = cut_unsupported_faces(mesh, tree, opt.hole_cut_spacings * st.spacing_mm);
       pipeline::log("reconstruct", "  " + std::to_string(st.faces_cut) + " faces farther than " +
-                                       std::to_string(opt.hole_cut_spacings) + " spacings from the points removed");
+                                       pipeline::format_number(opt.hole_cut_spacings) + " spacings from the points removed");
     }
     if (opt.projection_max_move_mm > 0) {
       clock.start("projection of the Poisson vertices onto the points");

@@ -88,9 +88,9 @@ int main(int argc, char** argv) {
     pipeline::write_surface_mesh(out, mesh);
     pipeline::log("reconstruct", in + ": " + std::to_string(st.input_points) + " points, " +
                                      std::to_string(st.outliers_removed) + " outliers removed, spacing " +
-                                     std::to_string(st.spacing_mm) + " mm, " + std::to_string(st.faces) +
+                                     pipeline::format_number(st.spacing_mm) + " mm, " + std::to_string(st.faces) +
                                      " triangles → " + out +
-                                     (st.thin_shell ? " (thin shell, wall " + std::to_string(st.wall_mm) + " mm)" : ""));
+                                     (st.thin_shell ? " (thin shell, wall " + pipeline::format_number(st.wall_mm) + " mm)" : ""));
     return 0;
   });
 }

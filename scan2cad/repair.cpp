@@ -120,7 +120,7 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
                                                    " % of its area: --smooth or --smooth-time too strong?");
   }
   if (opt.target_edge_mm > 0) {
-    progress.step("isotropic remeshing to " + std::to_string(opt.target_edge_mm) + " mm");
+    progress.step("isotropic remeshing to " + pipeline::format_number(opt.target_edge_mm) + " mm");
     remesh(mesh, opt.target_edge_mm, opt.remesh_iterations);
     r.target_edge_mm = opt.target_edge_mm;
   }
