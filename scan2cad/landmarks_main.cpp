@@ -37,7 +37,6 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("landmarks", 0);
     const auto head = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(head.points()), "head");
-    progress.step("checking that the head is in the frame");
     pipeline::naming_file(in, [&] { scan2cad::require_head_frame(head); });
     // 2. Detect, or validate the user's file against the head
     scan2cad::Landmarks l;
