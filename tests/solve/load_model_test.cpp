@@ -90,3 +90,28 @@ TEST(check_model, massless_slave_node_named_by_tag_or_number) {
             std::string::npos)
       << message(m);
 }
+
+// A model that holds a head (group head_skin) in metres or cm is refused before the run: in metres,
+// medium_onesize's stage I started 48.7 million steps (ETA 16 days) without a word. A 200 mm block
+// standing in for the head passes; the same block in metres and in cm does not; models without a
+// head (the solver's own test blocks, a few mm) are not judged by it.
+TEST(check_model, a_head_model_not_in_mm_is_refused) {
+  solve::BlockSpec b;
+  b.size = {200, 200, 200};
+  solve::Model m = solve::make_block(b, {"m", 1e-3, 1, 0.3, false});
+  m.control.end_time = 1;
+  m.node_groups["head_skin"] = m.group("zmax");
+  EXPECT_EQ(bad_input_message([&] { solve::check_model(m); }), "no error");
+  for (double to_unit : {1e-3, 0.1}) {
+    solve::Model scaled = m;
+    for (double& x : scaled.X) x *= to_unit;
+    const std::string message = bad_input_message([&] { solve::check_model(scaled); });
+    EXPECT_EQ(message.rfind(scaled.name + ": largest extent " + pipeline::format_number(200 * to_unit) +
+                                " mm, but a head is about 250 mm: ",
+                            0),
+              0u)
+        << message;
+    scaled.node_groups.erase("head_skin");
+    EXPECT_EQ(bad_input_message([&] { solve::check_model(scaled); }), "no error");
+  }
+}
