@@ -73,12 +73,12 @@ void check_model(const Model& m) {
   // a word, 1000 or 10 times the steps of the same model in mm: medium_onesize's stage I in metres
   // started 48.7 million steps with an ETA of 16 days. Its head must have a head's size in mm.
   if (const auto g = m.node_groups.find("head_skin"); g != m.node_groups.end() && !g->second.empty()) {
-    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    std::vector<const double*> skin;  // each node's x, y, z, as largest_extent reads a point
     for (int id : g->second) {
       if (id < 0 || std::size_t(id) >= n) throw bad("group 'head_skin': node id out of range");
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], m.X[3 * id + k]), hi[k] = std::max(hi[k], m.X[3 * id + k]);
+      skin.push_back(&m.X[3 * std::size_t(id)]);
     }
-    pipeline::require_mm(m.name, std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}), "head");
+    pipeline::require_mm(m.name, pipeline::largest_extent(skin), "head");
   }
   if (m.parts.empty()) throw bad("no parts: the deck assigns no material to any element group");
   for (const auto& mat : m.materials)
