@@ -1,10 +1,14 @@
 // read_msh: see read_msh.h.
 #include "pipeline/read_msh.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 #include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
@@ -74,46 +78,174 @@ MshFile read_open_model(const std::string& path) {
   return f;
 }
 
-// gmsh reads a file whose $Nodes section lost its $EndNodes without a word and skips to the
-// end, so the elements vanish and a stage wrote an empty model with exit 0. In an ASCII file
-// every section must close before the next opens; a binary file's sections hold raw bytes after
-// $MeshFormat, so only that one is looked at there.
-void check_sections_closed(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line, open_section;
-  std::size_t line_no = 0, open_line = 0;
-  bool binary = false, format_seen = false;
-  while (!binary && std::getline(in, line)) {
-    ++line_no;
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
-    if (line_no == 1 && line != "$MeshFormat") return;  // not a gmsh 2/4 file: gmsh's own reader decides
-    if (open_section == "MeshFormat" && !format_seen && !line.empty() && line[0] != '$') {
-      std::istringstream words(line);
-      double version = 0;
-      int file_type = 0;
-      words >> version >> file_type;
-      binary = file_type == 1;
-      format_seen = true;
-      continue;
-    }
-    if (line.empty() || line[0] != '$') continue;
-    const std::string name = line.substr(1);
-    if (open_section.empty()) {
-      if (name.rfind("End", 0) == 0)
-        throw bad_input(path, "line " + std::to_string(line_no) + ": " + line + " closes no open section");
-      open_section = name, open_line = line_no;
-    } else if (name == "End" + open_section) {
-      open_section.clear();
-    } else if (open_section != "Comments") {
-      throw bad_input(path, "section $" + open_section + " (line " + std::to_string(open_line) +
-                                ") is not closed by $End" + open_section + " before line " + std::to_string(line_no) +
-                                " (" + line + ")");
+// What gmsh is given is checked first, because gmsh trusts it: a file that does not start with
+// $MeshFormat it runs as a .geo script (a "System" line ran a shell command, and a plain text file
+// gave "Unknown variable"); in an ASCII mesh it believes the counts (a block declaring 4e9
+// elements aborted libgmsh 4.8 with a double free) and the node tags (-3 crashed getElements);
+// and a $Nodes section that lost its $EndNodes it reads without a word, skipping to the end of
+// the file, so the elements vanished and a stage wrote an empty model with exit 0. gmsh has no
+// option to read a mesh only, so an ASCII file's sections, block counts and element node tags are
+// checked here. A binary file's sections hold raw bytes after $MeshFormat and are left to gmsh.
+class MshText {
+ public:
+  explicit MshText(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    text_ = bytes.str();
+    for (std::size_t start = 0; start < text_.size();) {
+      std::size_t end = text_.find('\n', start);
+      if (end == std::string::npos) end = text_.size();
+      std::size_t last = end;  // without "\r" and trailing blanks, as gmsh reads the line
+      while (last > start && (text_[last - 1] == '\r' || text_[last - 1] == ' ' || text_[last - 1] == '\t')) --last;
+      lines_.emplace_back(text_.data() + start, last - start);
+      start = end + 1;
     }
   }
-  if (!binary && !open_section.empty())
-    throw bad_input(path, "section $" + open_section + " (line " + std::to_string(open_line) +
-                              ") is not closed by $End" + open_section + " (truncated file?)");
-}
+
+  void check() const {
+    if (lines_.empty() || lines_[0] != "$MeshFormat")
+      throw bad_input(path_, "not a gmsh mesh: its first line is '" + shown(lines_.empty() ? "" : lines_[0]) +
+                                 "', expected $MeshFormat");
+    if (lines_.size() < 2) throw bad_input(path_, "$MeshFormat has no version line (truncated file?)");
+    const auto format = words(lines_[1]);
+    if (format.size() < 2) throw error(1, "expected '<version> <file type> <data size>'");
+    if (format[1] != "0") return;  // binary
+    const std::string version(format[0]);
+    for (const Section& s : sections()) {
+      if (s.name == "Nodes" && version == "4.1") check_nodes_41(s);
+      if (s.name == "Elements" && version == "4.1") check_elements_41(s);
+      if (s.name == "Nodes" && version.rfind("2.", 0) == 0) check_count_22(s, "nodes");
+      if (s.name == "Elements" && version.rfind("2.", 0) == 0) check_elements_22(s);
+    }
+  }
+
+ private:
+  struct Section {
+    std::string name;
+    std::size_t begin, end;  ///< line indices of $name and $Endname
+  };
+
+  std::vector<Section> sections() const {
+    std::vector<Section> out;
+    bool open = false;
+    for (std::size_t i = 0; i < lines_.size(); ++i) {
+      const std::string_view line = lines_[i];
+      if (line.empty() || line[0] != '$') continue;
+      const std::string name(line.substr(1));
+      if (!open) {
+        if (name.rfind("End", 0) == 0) throw error(i, std::string(line) + " closes no open section");
+        out.push_back({name, i, 0});
+        open = true;
+      } else if (name == "End" + out.back().name) {
+        out.back().end = i;
+        open = false;
+      } else if (out.back().name != "Comments") {
+        throw bad_input(path_, "section $" + out.back().name + " (line " + std::to_string(out.back().begin + 1) +
+                                   ") is not closed by $End" + out.back().name + " before line " +
+                                   std::to_string(i + 1) + " (" + std::string(line) + ")");
+      }
+    }
+    if (open)
+      throw bad_input(path_, "section $" + out.back().name + " (line " + std::to_string(out.back().begin + 1) +
+                                 ") is not closed by $End" + out.back().name + " (truncated file?)");
+    return out;
+  }
+
+  // 4.1: "blocks nodes min max", then per block "dim tag parametric n", n tag lines, n coordinate lines.
+  void check_nodes_41(const Section& s) const {
+    std::size_t i = s.begin + 1;
+    const long long blocks = count(i, 0, "'<blocks> <nodes> <min tag> <max tag>'");
+    for (long long b = 0; b < blocks; ++b) {
+      const long long n = count(++i, 3, "'<dim> <entity> <parametric> <nodes in block>'");
+      if (n > (long long)(s.end - i - 1) / 2) throw too_many(i, n, "nodes", s.end - i - 1);
+      i += 2 * std::size_t(n);
+    }
+    if (i + 1 != s.end) throw error(i + 1, "more lines in $Nodes than its blocks declare");
+  }
+
+  // 4.1: "blocks elements min max", then per block "dim tag type n" and n lines "tag node...".
+  void check_elements_41(const Section& s) const {
+    std::size_t i = s.begin + 1;
+    const long long blocks = count(i, 0, "'<blocks> <elements> <min tag> <max tag>'");
+    for (long long b = 0; b < blocks; ++b) {
+      const long long n = count(++i, 3, "'<dim> <entity> <type> <elements in block>'");
+      if (n > (long long)(s.end - i - 1)) throw too_many(i, n, "elements", s.end - i - 1);
+      for (long long e = 0; e < n; ++e) check_tags(++i, 0);
+    }
+    if (i + 1 != s.end) throw error(i + 1, "more lines in $Elements than its blocks declare");
+  }
+
+  // 2.x: "n", then n lines.
+  void check_count_22(const Section& s, const char* what) const {
+    const long long n = count(s.begin + 1, 0, std::string("the number of ") + what);
+    if (n != (long long)(s.end - s.begin - 2))
+      throw error(s.begin + 1, "$" + s.name + " declares " + std::to_string(n) + " " + what + " but holds " +
+                                   std::to_string(s.end - s.begin - 2) + " lines");
+  }
+
+  // 2.x: "n", then n lines "tag type ntags tag... node...".
+  void check_elements_22(const Section& s) const {
+    check_count_22(s, "elements");
+    for (std::size_t i = s.begin + 2; i < s.end; ++i) {
+      const auto w = words(lines_[i]);
+      const long long ntags = w.size() >= 3 ? integer(w[2], i) : -1;
+      if (ntags < 0 || (long long)w.size() < 4 + ntags) throw error(i, "expected '<tag> <type> <ntags> <tags...> <nodes...>'");
+      check_tags(i, 3 + std::size_t(ntags));
+    }
+  }
+
+  // Every word of line i from `first` on a positive integer (an element's tag and node tags).
+  void check_tags(std::size_t i, std::size_t first) const {
+    const auto w = words(lines_[i]);
+    if (w.size() < first + 2) throw error(i, "expected an element tag and its node tags, got '" + shown(lines_[i]) + "'");
+    for (std::size_t k = first; k < w.size(); ++k)
+      if (integer(w[k], i) < 1) throw error(i, "tag '" + std::string(w[k]) + "' is not a positive integer");
+  }
+
+  // Word k of line i as a count >= 0.
+  long long count(std::size_t i, std::size_t k, const std::string& expected) const {
+    if (i >= lines_.size()) throw error(i, "the file ends where " + expected + " was expected");
+    const auto w = words(lines_[i]);
+    if (w.size() <= k) throw error(i, "expected " + expected + ", got '" + shown(lines_[i]) + "'");
+    const long long n = integer(w[k], i);
+    if (n < 0) throw error(i, "negative count " + std::string(w[k]));
+    return n;
+  }
+
+  long long integer(std::string_view word, std::size_t i) const {
+    long long v = 0;
+    const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
+    if (ec != std::errc() || end != word.data() + word.size())
+      throw error(i, "'" + shown(word) + "' is not an integer");
+    return v;
+  }
+
+  static std::vector<std::string_view> words(std::string_view line) {
+    std::vector<std::string_view> out;
+    for (std::size_t a = 0; a < line.size();) {
+      a = line.find_first_not_of(" \t", a);
+      if (a == std::string_view::npos) break;
+      const std::size_t b = std::min(line.find_first_of(" \t", a), line.size());
+      out.push_back(line.substr(a, b - a));
+      a = b;
+    }
+    return out;
+  }
+
+  static std::string shown(std::string_view s) { return s.size() > 40 ? std::string(s.substr(0, 40)) + "..." : std::string(s); }
+
+  Error error(std::size_t i, const std::string& problem) const {
+    return bad_input(path_, "line " + std::to_string(i + 1) + ": " + problem);
+  }
+  Error too_many(std::size_t i, long long n, const char* what, std::size_t left) const {
+    return error(i, "a block of " + std::to_string(n) + " " + what + ", but its section has " + std::to_string(left) +
+                        " lines left (truncated or corrupt file?)");
+  }
+
+  std::string path_, text_;
+  std::vector<std::string_view> lines_;
+};
 
 }  // namespace
 
@@ -121,8 +253,8 @@ MshFile read_msh(const std::string& path) {
   require_file(path);
   GmshSession session;
   try {
+    MshText(path).check();
     gmsh::open(path);
-    check_sections_closed(path);
     return read_open_model(path);
   } catch (const std::string& e) {  // the gmsh API throws its last error message as a string
     throw bad_input(path, "gmsh cannot read it: " + e);

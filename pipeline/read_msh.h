@@ -6,10 +6,12 @@
 ///         change between runs: read_msh.cpp), with its file tag and coordinates; every physical
 ///         group in gmsh's order with its elements, one block per entity and element type, as
 ///         0-based indices into the nodes.
-/// Throws pipeline::Error(bad_input) naming the file when it is missing, a directory, empty,
-/// unreadable by gmsh, an ASCII file with a section not closed (gmsh skips the rest of the file
-/// silently), without nodes, or has a node with a NaN or infinite coordinate or an element on a
-/// node it lacks. Whether groups must exist, be named or hold one element type is
+/// Throws pipeline::Error(bad_input) naming the file when it is missing, a directory, empty, does
+/// not start with $MeshFormat (gmsh would run it as a .geo script), is unreadable by gmsh, is an
+/// ASCII file with a section not closed (gmsh skips the rest of the file silently), a block count
+/// its section cannot hold or an element tag that is not a positive integer (libgmsh aborts or
+/// crashes on these), has no nodes, or has a node with a NaN or infinite coordinate or an element
+/// on a node it lacks. Whether groups must exist, be named or hold one element type is
 /// the caller's rule.
 ///
 /// Shared by layering (read_fe_model) and solve (read_msh): gmsh reads every .msh version,
