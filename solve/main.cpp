@@ -10,6 +10,7 @@
 #include <string>
 
 #include "pipeline/cli.h"
+#include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "solve/load_model.h"
 #include "solve/run.h"
@@ -26,12 +27,15 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Load and check the model.
     const solve::Model model = solve::load_model(msh, deck);
+    solve::require_inputs_apart_from_outputs(opt.out_dir, msh, deck,
+                                             opt.restart.empty() ? model.initial_state.file : opt.restart);
     // 2. Run; outputs are written atomically by run().
     const solve::RunSummary s = solve::run(model, opt);
-    pipeline::log("solve", "done: t = " + std::to_string(s.time) + " ms, " + std::to_string(s.steps) +
-                               " steps, dt " + std::to_string(s.dt) + " ms, " + std::to_string(s.wall_s) +
-                               " s; kinetic " + std::to_string(s.energies.kinetic) + " mJ, internal " +
-                               std::to_string(s.energies.internal) + " mJ; outputs in " + opt.out_dir);
+    using pipeline::format_number;
+    pipeline::log("solve", "done: t = " + format_number(s.time) + " ms, " + std::to_string(s.steps) + " steps, dt " +
+                               format_number(s.dt) + " ms, " + format_number(s.wall_s) + " s; kinetic " +
+                               format_number(s.energies.kinetic) + " mJ, internal " +
+                               format_number(s.energies.internal) + " mJ; outputs in " + opt.out_dir);
     return 0;
   });
 }

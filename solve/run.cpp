@@ -8,8 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "pipeline/atomic_write.h"
+#include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "solve/save_state.h"
@@ -72,6 +75,21 @@ void require_room_for_outputs(const Model& m, std::size_t elements, const std::s
 }
 
 }  // namespace
+
+void require_inputs_apart_from_outputs(const std::string& out_dir, const std::string& model_path,
+                                       const std::string& deck_path, const std::string& started_from) {
+  std::vector<std::string> outputs;
+  for (const char* f : sound_run_files) outputs.push_back((std::filesystem::path(out_dir) / f).string());
+  for (const char* f : diverged_run_files) outputs.push_back((std::filesystem::path(out_dir) / f).string());
+  auto check = [&](const std::string& flag, const std::string& path, bool may_be_state) {
+    for (const std::string& output : outputs)
+      if (!(may_be_state && std::filesystem::path(output).filename() == "state.bin"))
+        pipeline::require_distinct_files({{"the output " + output, output}, {flag, path}});
+  };
+  check("--model", model_path, false);
+  check("--deck", deck_path, false);
+  check("the starting state", started_from, true);
+}
 
 RunSummary run(const Model& model, const RunOptions& opt) {
   namespace fs = std::filesystem;
@@ -151,7 +169,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   auto remove_outputs = [&] {
     if (frames.is_open()) frames.close();
     fs::remove(frames_path, ec);
-    for (const char* f : {"results.msh", "state.bin", "energy.csv", "forces.csv"})
+    for (const char* f : sound_run_files)
       if (started_from.empty() || !fs::equivalent(dir / f, started_from, ec)) fs::remove(dir / f, ec);
   };
   auto fail = [&](const std::string& why) {
@@ -233,7 +251,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     throw;
   }
   fs::remove(frames_path, ec);
-  for (const char* f : {"diverged_state.bin", "diverged_energy.csv"}) fs::remove(dir / f, ec);
+  for (const char* f : diverged_run_files) fs::remove(dir / f, ec);
   sum.time = s.time();
   sum.steps = s.steps() - step0;
   sum.dt = s.dt();

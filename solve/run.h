@@ -30,8 +30,22 @@ struct RunSummary {
   double max_penetration = 0; ///< over the run [mm]
 };
 
+/// The files run() writes in out_dir: those of a sound run, and those of a diverged one.
+inline constexpr std::array<const char*, 4> sound_run_files = {"results.msh", "state.bin", "energy.csv", "forces.csv"};
+inline constexpr std::array<const char*, 2> diverged_run_files = {"diverged_state.bin", "diverged_energy.csv"};
+
 /// @throws pipeline::Error(bad_input) for a bad model / restart file, Error(algorithm) on
 ///         divergence, Error(io) when writing fails.
 RunSummary run(const Model& m, const RunOptions& opt);
+
+/// Checks, before any work, that no input is a file run() writes or removes in `out_dir`: a
+/// model copied into the output folder as results.msh was deleted by a diverging run and
+/// overwritten by a sound one. The state a run starts from (`started_from`: --restart, else the
+/// deck's initial_state) may be out_dir's state.bin, which continues a run in place (run() keeps
+/// it when it fails); it may not be another output.
+/// @throws pipeline::Error(usage) "--model 'out/results.msh' is the same file as the output
+///         out/results.msh: ..." (pipeline::require_distinct_files).
+void require_inputs_apart_from_outputs(const std::string& out_dir, const std::string& model_path,
+                                       const std::string& deck_path, const std::string& started_from);
 
 }  // namespace solve

@@ -95,6 +95,32 @@ TEST(solve_cli, a_file_size_limit_leaves_no_outputs) {
   for (const char* f : {"results.msh", "energy.csv", "forces.csv"}) EXPECT_FALSE(fs::exists(c.dir + "/again/" + f)) << f;
 }
 
+// A model or deck kept in the output folder under an output's name was deleted by a diverging
+// run and overwritten by a sound one. Now refused before the run (exit 1), the file untouched; a
+// restart from the folder's own state.bin is still allowed (previous test).
+TEST(solve_cli, an_input_named_as_an_output_in_the_out_dir_is_refused_and_kept) {
+  CliCase c;
+  c.write("deck.json", deck(1.0));
+  fs::create_directories(c.dir + "/kept");
+  fs::copy_file(c.dir + "/block.msh", c.dir + "/kept/results.msh");
+  const std::string model = c.read("kept/results.msh");
+  EXPECT_EQ(c.sh(std::string(BIN_DIR) + "/solve --model " + c.dir + "/kept/results.msh --deck " + c.dir +
+                 "/deck.json --out-dir " + c.dir + "/kept"),
+            1);
+  const std::string err = c.read("err.txt");
+  EXPECT_EQ(count(err, "\n"), 2) << err;  // the options line and the error
+  EXPECT_NE(err.find("--model '" + c.dir + "/kept/results.msh' is the same file as the output " + c.dir + "/kept/results.msh: "), std::string::npos) << err;
+  EXPECT_EQ(c.read("kept/results.msh"), model);
+  c.write("kept/energy.csv", deck(1.0));
+  EXPECT_EQ(c.sh(std::string(BIN_DIR) + "/solve --model " + c.dir + "/block.msh --deck " + c.dir +
+                 "/kept/energy.csv --out-dir " + c.dir + "/kept/"),
+            1)
+      << c.read("err.txt");
+  EXPECT_NE(c.read("err.txt").find("--deck '"), std::string::npos) << c.read("err.txt");
+  EXPECT_EQ(c.read("kept/energy.csv"), deck(1.0));
+  EXPECT_FALSE(fs::exists(c.dir + "/kept/state.bin"));
+}
+
 TEST(solve_cli, good_run_writes_results_state_and_histories) {
   CliCase c;
   c.write("deck.json", deck(1.0));
