@@ -6,6 +6,7 @@
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 #include <CGAL/property_map.h>
 
 #include <assimp/Importer.hpp>
@@ -345,6 +346,14 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
       throw bad_input(path, "vertex " + std::to_string(std::size_t(v)) + " has a non-finite coordinate");
   }
+  // A stage's output has none (repair removes them); in an edited or corrupted file they made
+  // CGAL's remeshing (surface_mesh) crash and segment's ray tests assert or cut absurd parts.
+  std::size_t degenerate = 0, first = 0;
+  for (auto f : mesh.faces())
+    if (mesh.degree(f) == 3 && PMP::is_degenerate_triangle_face(f, mesh) && degenerate++ == 0) first = std::size_t(f);
+  if (degenerate > 0)
+    throw bad_input(path, std::to_string(degenerate) + " degenerate face" + (degenerate > 1 ? "s" : "") +
+                              " (zero area; the first is face " + std::to_string(first) + "): run repair first");
   return mesh;
 }
 

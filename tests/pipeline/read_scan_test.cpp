@@ -154,6 +154,11 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
   }
   const std::string negative = scratch_file("negative.ply", binary);
   EXPECT_EQ(message_of(negative), negative + ": face 1 refers to vertex -7 of 5");
+  // Vertices moved onto another (an edited file): zero-area faces crashed surface_mesh's
+  // remeshing and made segment assert or cut absurd parts.
+  const std::string collapsed = scratch_file(
+      "collapsed.ply", header + "0 0 0\n100 0 0\n50 80 0\n50 -80 0\n100 0 0\n3 0 1 2\n3 1 0 3\n3 2 1 4\n");
+  EXPECT_EQ(message_of(collapsed), collapsed + ": 1 degenerate face (zero area; the first is face 2): run repair first");
 }
 
 // A NaN normal reached Poisson, which failed as an algorithm error ("normals inconsistent?").
