@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -21,7 +22,9 @@ double parse_double(const std::string& flag, const std::string& s) {
   } catch (...) {
     pos = 0;
   }
-  if (pos == 0 || pos != s.size() || !std::isfinite(v))
+  // std::stod also reads hexadecimal ("0x10" is 16) and "infinity": decimal numbers only
+  const bool decimal = s.find_first_not_of("0123456789+-.eE") == std::string::npos;
+  if (!decimal || pos == 0 || pos != s.size() || !std::isfinite(v))
     throw Error(ErrorKind::usage, flag + ": expected a finite number, got '" + s + "'");
   return v;
 }
@@ -104,6 +107,11 @@ bool Cli::parse(int argc, char** argv) {
     }
     Opt* o = find(arg);
     if (!o) throw Error(ErrorKind::usage, "unknown option '" + arg + "'");
+    // Twice was last-wins (`--edge 2 --edge 3` used 3), and `--flag=false` set the flag: both
+    // read as something the user did not mean.
+    if (o->seen) throw Error(ErrorKind::usage, o->long_flag + " given twice: give each option once");
+    if (o->is_flag && inline_value)
+      throw Error(ErrorKind::usage, o->long_flag + " is a flag and takes no value, got '" + value + "'");
     if (!o->is_flag && !inline_value) {
       if (i + 1 >= argc) throw Error(ErrorKind::usage, arg + ": missing value");
       value = argv[++i];
@@ -163,8 +171,21 @@ void require_distinct_files(const std::vector<std::pair<std::string, std::string
                                           files[j].first + ": each file option needs a file of its own (an output must not replace an input)");
 }
 
+namespace {
+// CGAL's assertion messages span four lines; every failure is one line on stderr.
+std::string one_line(std::string message) {
+  while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+  for (std::size_t p; (p = message.find('\n')) != std::string::npos;) message.replace(p, 1, " / ");
+  return message;
+}
+}  // namespace
+
 int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) {
   const std::string& prog = cli.program();
+  // Under a file size limit (ulimit -f) the kernel's SIGXFSZ killed a stage mid-write with no
+  // message and left its temporary file; ignored, the write fails with EFBIG, which the atomic
+  // writers report (exit 4) after removing the temporary file.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     if (!cli.parse(argc, argv)) return 0;
     std::fprintf(stderr, "%s: options: %s\n", prog.c_str(), cli.resolved().c_str());
@@ -173,15 +194,15 @@ int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) 
     // One line, also for a usage error: its pointer to --help goes at the end of the error line
     // rather than on a line of its own, so every failure is exactly one line on stderr.
     if (e.kind == ErrorKind::usage)
-      std::fprintf(stderr, "%s: %s (see '%s --help')\n", prog.c_str(), e.what(), prog.c_str());
+      std::fprintf(stderr, "%s: %s (see '%s --help')\n", prog.c_str(), one_line(e.what()).c_str(), prog.c_str());
     else
-      std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.what());
+      std::fprintf(stderr, "%s: %s\n", prog.c_str(), one_line(e.what()).c_str());
     return int(e.kind);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: internal error: %s\n", prog.c_str(), e.what());
+    std::fprintf(stderr, "%s: internal error: %s\n", prog.c_str(), one_line(e.what()).c_str());
     return int(ErrorKind::algorithm);
   } catch (const std::string& e) {  // the gmsh API throws its last error message as a string
-    std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.c_str());
+    std::fprintf(stderr, "%s: %s\n", prog.c_str(), one_line(e).c_str());
     return int(ErrorKind::algorithm);
   } catch (...) {
     std::fprintf(stderr, "%s: internal error: unknown exception\n", prog.c_str());

@@ -46,11 +46,18 @@ TEST(cli, parses_long_short_and_inline_values) {
 TEST(cli, rejects_absurd_and_malformed_values) {
   std::string in;
   double edge = 2.0;
+  bool verbose = false;
   pipeline::Cli cli("prog", "test");
-  cli.option("-i", "--in", &in, "input", pipeline::required).option("-e", "--edge", &edge, "edge", 0.1, 10);
+  cli.option("-i", "--in", &in, "input", pipeline::required)
+      .option("-e", "--edge", &edge, "edge", 0.1, 10)
+      .flag("-v", "--verbose", &verbose, "talk");
   for (auto bad : std::vector<std::vector<std::string>>{{"prog", "-i", "a", "-e", "nan"},
                                                          {"prog", "-i", "a", "-e", "100"},
                                                          {"prog", "-i", "a", "-e", "2mm"},
+                                                         {"prog", "-i", "a", "-e", "0x8"},  // hexadecimal
+                                                         {"prog", "-i", "a", "-e", "2", "--edge", "3"},  // twice
+                                                         {"prog", "-i", "a", "--in", "a"},
+                                                         {"prog", "-i", "a", "--verbose=false"},  // a flag's value
                                                          {"prog", "-e", "2"},
                                                          {"prog", "-i", "a", "--bogus"},
                                                          {"prog", "-i"}}) {
@@ -95,6 +102,13 @@ TEST(cli, run_main_prints_one_line_per_usage_error) {
   testing::internal::CaptureStderr();
   EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(), []() -> int { throw pipeline::bad_input("a", "empty"); }), 2);
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "prog: options: in=a\nprog: a: empty\n");
+  // a library's message over several lines (CGAL's assertions take four) is joined into one
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(pipeline::run_main(cli, a.argc(), a.argv(),
+                               []() -> int { throw std::runtime_error("CGAL ERROR: assertion violation!\nFile: x.h\n"); }),
+            3);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "prog: options: in=a\nprog: internal error: CGAL ERROR: assertion violation! / File: x.h\n");
 }
 
 // An output path's ending is checked before any work: the gmsh writers of surface_mesh, layers,
