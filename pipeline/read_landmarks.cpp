@@ -22,6 +22,11 @@ Landmark landmark_of(const nlohmann::json& v, const std::string& path, const std
     const auto& c = v["position"][std::size_t(k)];
     if (!c.is_number() || !std::isfinite(c.get<double>()))
       throw bad_input(path, what + ": a coordinate is not a finite number");
+    // 1e308 passed, and the exact distance predicates of the surface check then died of a
+    // floating-point trap (in GMP); see max_landmark_coordinate_mm.
+    if (std::abs(c.get<double>()) > max_landmark_coordinate_mm)
+      throw bad_input(path, what + ": coordinate " + format_number(c.get<double>()) + " is beyond +-" +
+                                format_number(max_landmark_coordinate_mm) + " mm (not a point on a head in mm)");
     l.position[k] = c.get<double>();
   }
   if (v.contains("confidence")) {

@@ -16,6 +16,10 @@ struct Landmark {
   double confidence = 1.0;                              ///< 0 (a guess) … 1 (a clear feature)
 };
 
+/// The largest coordinate a landmark may have [mm]: an aligned head lies within ~300 mm of its
+/// origin; 10 m leaves room for any frame while refusing the absurd (1e308 crashed a check).
+inline constexpr double max_landmark_coordinate_mm = 1e4;
+
 /// The nine landmarks of a head's file, the ones `landmarks` detects and segment needs: sellion,
 /// pronasale, menton, and zygion, tragion and gonion, each left and right.
 const std::vector<std::string>& head_landmark_names();

@@ -317,6 +317,18 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".ply") {
     if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
+    // A valid PLY may list its faces before its vertices; CGAL's Surface_mesh reader then
+    // crashed (it indexes vertices it has not read yet).
+    {
+      std::ifstream in(path, std::ios::binary);
+      std::string line;
+      bool vertices_seen = false;
+      while (std::getline(in, line) && line.rfind("end_header", 0) != 0) {
+        vertices_seen = vertices_seen || line.rfind("element vertex", 0) == 0;
+        if (line.rfind("element face", 0) == 0 && !vertices_seen)
+          throw bad_input(path, "its faces come before its vertices: a mesh a stage wrote lists vertices first");
+      }
+    }
     // Read as a soup first: CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and
     // on a valid one whose faces do not form a 2-manifold, and it crashes on a face index past
     // the vertices (a corrupted binary file); the soup tells the three apart safely.

@@ -68,6 +68,11 @@ TEST(read_landmarks, names_the_file_and_the_landmark_for_each_problem) {
   pipeline::write_text_atomic(huge, text.replace(text.find("12345"), 5, "1e999"));
   EXPECT_EQ(bad_input_message([&] { pipeline::read_landmarks(huge, {}); }, huge),
             "not valid JSON: number overflow parsing '1e999'");
+  // 1e308 is a double, and crashed the surface check's exact predicates (a floating-point trap)
+  EXPECT_EQ(message_for(with("menton", "position", {1e308, -77, 74})),
+            "landmark menton: coordinate 1e+308 is beyond +-10000 mm (not a point on a head in mm)");
+  EXPECT_EQ(message_for(with("menton", "position", {0, -77, -20000})),
+            "landmark menton: coordinate -20000 is beyond +-10000 mm (not a point on a head in mm)");
   EXPECT_EQ(message_for(with("sellion", "confidence", "high")),
             "landmark sellion: confidence \"high\", expected a number 0..1");
   EXPECT_EQ(message_for(with("sellion", "confidence", nullptr)),

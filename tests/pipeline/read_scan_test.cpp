@@ -159,6 +159,12 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
   const std::string collapsed = scratch_file(
       "collapsed.ply", header + "0 0 0\n100 0 0\n50 80 0\n50 -80 0\n100 0 0\n3 0 1 2\n3 1 0 3\n3 2 1 4\n");
   EXPECT_EQ(message_of(collapsed), collapsed + ": 1 degenerate face (zero area; the first is face 2): run repair first");
+  // Faces listed before the vertices (valid PLY) crashed CGAL's Surface_mesh reader.
+  const std::string faces_first = scratch_file(
+      "faces_first.ply", "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+                         "element vertex 3\nproperty double x\nproperty double y\nproperty double z\nend_header\n"
+                         "3 0 1 2\n0 0 0\n100 0 0\n0 100 0\n");
+  EXPECT_EQ(message_of(faces_first), faces_first + ": its faces come before its vertices: a mesh a stage wrote lists vertices first");
 }
 
 // A NaN normal reached Poisson, which failed as an algorithm error ("normals inconsistent?").
