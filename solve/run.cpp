@@ -27,6 +27,12 @@ std::string fmt(double v) {
   return b;
 }
 
+// The first time t0 + k·interval after t. Computed, not stepped to: an interval far below the time
+// step (output_interval 1e-12 ms) made the loop that added it run ~1e9 times a step.
+double next_time(double t0, double interval, double t) {
+  return t0 + interval * (std::floor((t + 1e-12 - t0) / interval) + 1);
+}
+
 std::string energy_row(const Energies& e) {
   return fmt(e.time) + "," + fmt(e.kinetic) + "," + fmt(e.internal) + "," + fmt(e.contact) + "," + fmt(e.damping) +
          "," + fmt(e.external) + "," + fmt(e.scheme) + "," + fmt(e.balance) + "\n";
@@ -185,13 +191,13 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     const bool last = s.time() >= c.end_time;
     if (opt.write_results && (s.time() >= next_out - 1e-12 || last)) {
       write_frame(frames, m, s, frame++);
-      while (next_out <= s.time() + 1e-12) next_out += out_dt;
+      next_out = next_time(t0, out_dt, s.time());
     }
     if (last) break;
     const bool hist = s.time() >= next_hist - 1e-12;
     if (hist) {
       s.request_energy();
-      while (next_hist <= s.time() + 1e-12) next_hist += hist_dt;
+      next_hist = next_time(t0, hist_dt, s.time());
     }
     s.step();
     if (!s.health().empty()) fail(s.health());

@@ -121,6 +121,23 @@ TEST(solve_cli, an_input_named_as_an_output_in_the_out_dir_is_refused_and_kept) 
   EXPECT_FALSE(fs::exists(c.dir + "/kept/state.bin"));
 }
 
+// An output interval far below the time step looped ~1e9 times a step to find the next output
+// time; now it gives one frame per step (at most), and a history row per step.
+TEST(solve_cli, an_output_interval_below_the_time_step_gives_a_frame_per_step) {
+  CliCase c;
+  std::string d = deck(1.0);
+  d.replace(d.find("\"output_interval\": 0.25"), 23, "\"output_interval\": 1e-12, \"history_interval\": 1e-12");
+  c.write("tiny.json", d);
+  ASSERT_EQ(c.solve("tiny.json", "tiny"), 0) << c.read("err.txt");
+  const std::string err = c.read("err.txt");
+  const std::size_t at = err.find(" steps, dt ");
+  ASSERT_NE(at, std::string::npos) << err;
+  const long steps = std::stol(err.substr(err.rfind(", ", at) + 2));
+  EXPECT_GT(steps, 2);
+  EXPECT_EQ(count(c.read("tiny/results.msh"), "$NodeData"), 5 * (steps + 1));  // t0 and every step
+  EXPECT_EQ(count(c.read("tiny/energy.csv"), "\n"), 1 + steps);  // header, a row after every step
+}
+
 TEST(solve_cli, good_run_writes_results_state_and_histories) {
   CliCase c;
   c.write("deck.json", deck(1.0));
