@@ -97,12 +97,19 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
     Stack s;
     if (!a.is_array() || a.empty()) throw pipeline::bad_input(materials_json, where + ": expected [[material, mm], ...]");
     // The thickest soft tissue over the face is about 20 mm (cheek fat and muscle); a layer over
-    // 50 mm is a unit slip (cm, m) and was layered as columns thinned a millionfold.
-    constexpr double max_layer_mm = 50;
+    // 50 mm is a unit slip (cm, m) and was layered as columns thinned a millionfold. Below 0.1 mm
+    // a wedge under the ~6 mm surface triangles is a sliver (and the explicit time step shrinks
+    // with it); a 1e-9 mm layer was dropped without a word. The deepest stack in the paper has
+    // four tissues; a stack of 1000 layers ran out of memory.
+    constexpr double min_layer_mm = 0.1, max_layer_mm = 50;
+    constexpr std::size_t max_layers = 10;
+    if (a.size() > max_layers)
+      throw pipeline::bad_input(materials_json, where + ": " + std::to_string(a.size()) + " layers, expected at most " +
+                                                    std::to_string(max_layers));
     for (const auto& l : a) {
-      if (!l.is_array() || l.size() != 2 || !l[0].is_string() || !l[1].is_number() || !(l[1].get<double>() > 0) ||
-          l[1].get<double>() > max_layer_mm)
-        throw pipeline::bad_input(materials_json, where + ": bad layer " + l.dump() + ", expected [material, 0 < mm <= 50]");
+      if (!l.is_array() || l.size() != 2 || !l[0].is_string() || !l[1].is_number() ||
+          !(l[1].get<double>() >= min_layer_mm) || l[1].get<double>() > max_layer_mm)
+        throw pipeline::bad_input(materials_json, where + ": bad layer " + l.dump() + ", expected [material, 0.1 <= mm <= 50]");
       const std::string mat = l[0];
       if (!j.contains("materials") || !j["materials"].contains(mat))
         throw pipeline::bad_input(materials_json, where + ": material '" + mat + "' not in \"materials\"");

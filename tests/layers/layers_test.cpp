@@ -309,12 +309,21 @@ TEST(layers_cli, empty_truncated_or_nan_msh_exits_2_with_one_line_naming_it) {
 TEST(read_stacks, rejects_absurd_layer_thicknesses) {
   const nlohmann::json good = nlohmann::json::parse(pipeline::read_text(kMaterials));
   const std::filesystem::path path = scratch_dir() / "read_stacks.json";
-  for (const double mm : {0.0, -3.0, 1000.0}) {
+  for (const double mm : {0.0, -3.0, 1000.0, 1e-9, 0.05}) {  // 1e-9 mm was layered as an empty group
     nlohmann::json bad = good;
     bad["head_layers_mm"]["forehead"][0][1] = mm;
     pipeline::write_text_atomic(path.string(), bad.dump());
     const std::string message = bad_input_message([&] { layering::read_stacks(path.string(), "head"); }, path);
     EXPECT_EQ(message.rfind("head_layers_mm.forehead: bad layer", 0), 0u) << mm << " mm: " << message;
+  }
+  // 1000 layers of 0.01 mm ran out of memory; ten 0.1 mm layers are allowed
+  for (const std::size_t n : {10u, 11u}) {
+    nlohmann::json stack = good;
+    stack["head_layers_mm"]["forehead"] = nlohmann::json::array();
+    for (std::size_t k = 0; k < n; ++k) stack["head_layers_mm"]["forehead"].push_back({"skin", 0.1});
+    pipeline::write_text_atomic(path.string(), stack.dump());
+    EXPECT_EQ(bad_input_message([&] { layering::read_stacks(path.string(), "head"); }, path),
+              n == 10 ? "no error" : "head_layers_mm.forehead: 11 layers, expected at most 10");
   }
   EXPECT_NO_THROW(layering::read_stacks(kMaterials, "head"));
 }
