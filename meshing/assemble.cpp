@@ -126,6 +126,26 @@ void require_layered(const FeModel& model, const std::string& path, const std::s
                                         " or straps: an assembled model, not a " + kind + " from layers");
 }
 
+void require_straps(const FeModel& straps, const std::string& path) {
+  const std::string not_straps = ": not straps' output (a model, or a surface or layers .msh?)";
+  if (straps.find("head_skin") || straps.find("respirator_inner"))
+    throw pipeline::bad_input(path, "holds a head or a respirator" + not_straps);
+  for (const char* s : {"top", "bottom"}) {
+    const std::string strap = std::string("strap_") + s;
+    const Block* quads = straps.find(strap);
+    if (!quads || quads->dim != 2 || quads->nodes_per_elem != 4 || quads->size() == 0)
+      throw pipeline::bad_input(path, "no group " + strap + " of quads" + not_straps);
+    for (const char* side : {"left", "right"}) {
+      const Block* attach = straps.find(strap + "_attach_" + side);
+      if (!attach || attach->dim != 0 || attach->size() != 1)
+        throw pipeline::bad_input(path, "no attachment point " + strap + "_attach_" + side + not_straps);
+      const Block* end = straps.find(strap + "_end_" + side);
+      if (!end || end->dim != 1 || end->size() == 0)
+        throw pipeline::bad_input(path, "no end line " + strap + "_end_" + side + not_straps);
+    }
+  }
+}
+
 void require_landmarks_near_skin(const FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
                                  const std::string& path, double max_mm) {
   const internal::TriangleTree skin(head.nodes, head_surface(head));

@@ -22,6 +22,15 @@ std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
 /// @throws Error(bad_input) naming `path` and what is missing.
 void require_layered(const layering::FeModel& model, const std::string& path, const std::string& kind);
 
+/// Checks that `straps` (read from `path`) is what the straps stage writes: groups strap_top and
+/// strap_bottom of quads, and for each strap and side its attachment point
+/// (strap_<s>_attach_<side>) and end (strap_<s>_end_<side>), and no head or respirator. A file
+/// without them (renamed groups, no $PhysicalNames, a model or surface given instead) went
+/// through assemble with exit 0 and made a model with no straps, or failed in the placement with
+/// a gap of -74 mm.
+/// @throws Error(bad_input) naming `path` and the first group missing.
+void require_straps(const layering::FeModel& straps, const std::string& path);
+
 /// Every landmark of `lm` (read from `path`) within `max_mm` of the head's skin (its head_skin
 /// group, else all its triangles). The landmarks stage puts them on the aligned surface, which the
 /// layered skin follows to a few mm; one far off (another head's file, a hand edit in another

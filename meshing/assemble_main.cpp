@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
     meshing::require_layered(r, resp, "respirator");
     pipeline::require_mm(resp, pipeline::largest_extent(r.nodes), "respirator");
     const auto s = layering::read_fe_model(straps);
+    meshing::require_straps(s, straps);
     pipeline::require_mm(straps, pipeline::largest_extent(s.nodes), "head");  // straps span the head
     const auto lm = meshing::read_landmarks(landmarks);
     const auto mat = pipeline::read_json(materials);

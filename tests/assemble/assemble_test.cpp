@@ -307,6 +307,35 @@ TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outp
                  g_cm3_path + ": materials.skin: density 1.2 g/mm³ is outside [1e-06, 0.1]");
 }
 
+// A straps file without its groups (renamed, no $PhysicalNames, emptied) went through assemble
+// with exit 0 and made a model without straps; a model or surface given instead failed in the
+// placement with a gap of -74 mm.
+TEST(require_straps, names_the_first_missing_strap_group) {
+  auto& s = scene();
+  const layering::FeModel straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
+  auto message = [](const layering::FeModel& m) {
+    return bad_input_message([&] { meshing::require_straps(m, "st.msh"); }, "st.msh");
+  };
+  EXPECT_EQ(message(straps), "no error");
+  const std::string not_straps = ": not straps' output (a model, or a surface or layers .msh?)";
+  auto edited = [&](const std::string& group, const std::string& new_name, bool empty) {
+    layering::FeModel m = straps;
+    for (auto& b : m.blocks)
+      if (b.name == group) {
+        b.name = new_name;
+        if (empty) b.conn.clear();
+      }
+    return m;
+  };
+  EXPECT_EQ(message(edited("strap_top", "top", false)), "no group strap_top of quads" + not_straps);
+  EXPECT_EQ(message(edited("strap_bottom", "strap_bottom", true)), "no group strap_bottom of quads" + not_straps);
+  EXPECT_EQ(message(edited("strap_top_attach_right", "x", false)),
+            "no attachment point strap_top_attach_right" + not_straps);
+  EXPECT_EQ(message(edited("strap_bottom_end_left", "x", false)), "no end line strap_bottom_end_left" + not_straps);
+  EXPECT_EQ(message(s.head), "holds a head or a respirator" + not_straps);
+  EXPECT_EQ(message(s.resp), "holds a head or a respirator" + not_straps);
+}
+
 // straps and assemble check the landmarks against the head they are given: a coordinate of 1e300
 // made straps hang, and nlohmann's exception tags ended up in the error line.
 TEST(read_landmarks, refuses_a_bad_position_or_a_landmark_off_the_skin) {
