@@ -214,7 +214,10 @@ RunSummary run(const Model& model, const RunOptions& opt) {
       }
       forces_csv += "\n";
       emax = std::max({emax, e.kinetic + e.internal, std::fabs(e.external), e.contact + e.damping});
-      if (emax > 0 && std::fabs(e.balance) > c.energy_tolerance * emax)
+      // Below ~1e-9 mJ (a model at rest: the respirator with its rim held and no load had 4e-12
+      // mJ) the balance is round-off and the ratio meaningless; a strap's work in stage I is ~mJ.
+      constexpr double round_off_energy_mJ = 1e-9;
+      if (emax > round_off_energy_mJ && std::fabs(e.balance) > c.energy_tolerance * emax)
         fail("energy balance error " + fmt(e.balance) + " mJ exceeds " + fmt(c.energy_tolerance) +
              " of the largest energy " + fmt(emax) + " mJ");
       good = s.state();
