@@ -60,6 +60,13 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
 void require_stack_for_every_part(const FeModel& surface, const std::map<std::string, Stack>& stacks,
                                   const std::string& surface_path, const std::string& materials_path);
 
+/// Checks that no triangle of `surface` repeats a node, has zero area or repeats another
+/// triangle's three nodes. surface_mesh writes none; in an edited file a duplicated respirator
+/// triangle was layered as two coincident wedges per layer, and a back_of_head triangle with a
+/// repeated node was copied into the model, both with exit 0.
+/// @throws Error(bad_input) naming `surface_path`, the group and the triangle's nodes (0-based).
+void require_clean_triangles(const FeModel& surface, const std::string& surface_path);
+
 /// Parses `layers --elements-per-tissue` ("fat=3,skin=2"): each name a material of `stacks`, each
 /// count an integer in [1, 20] (the range of --elements-per-layer), no name twice.
 /// @throws Error(usage) "--elements-per-tissue: 'fat=2.5', expected material=N with N an integer

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     const layering::FeModel surface = layering::read_fe_model(in);
     pipeline::require_mm(in, pipeline::largest_extent(surface.nodes), kind);
     layering::require_stack_for_every_part(surface, stacks, in, materials);
+    layering::require_clean_triangles(surface, in);
     // 3. Layers.
     layering::LayerReport rep;
     const layering::FeModel model =

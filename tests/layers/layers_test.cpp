@@ -328,6 +328,24 @@ TEST(read_stacks, rejects_absurd_layer_thicknesses) {
   EXPECT_NO_THROW(layering::read_stacks(kMaterials, "head"));
 }
 
+// An edited surface: a duplicated triangle was layered as coincident wedges, a triangle with a
+// repeated node copied into the model, both with exit 0.
+TEST(require_clean_triangles, names_a_repeated_node_a_zero_area_or_a_repeated_triangle) {
+  layering::FeModel m;
+  m.nodes = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}, {20, 20, 0}};
+  m.blocks.push_back(layering::Block{"respirator_inner", 2, 3, {0, 1, 2, 1, 3, 2}});
+  m.blocks.push_back(layering::Block{"back_of_head", 2, 3, {}});
+  auto message = [&](std::vector<int> back) {
+    m.blocks[1].conn = std::move(back);
+    return bad_input_message([&] { layering::require_clean_triangles(m, "s.msh"); }, "s.msh");
+  };
+  EXPECT_EQ(message({}), "no error");
+  EXPECT_EQ(message({1, 4, 3}), "no error");
+  EXPECT_EQ(message({3, 3, 4}), "triangle 0 of back_of_head (nodes 3 3 4) has zero area");
+  EXPECT_EQ(message({0, 3, 4}), "triangle 0 of back_of_head (nodes 0 3 4) has zero area");  // collinear
+  EXPECT_EQ(message({1, 4, 3, 2, 1, 0}), "triangle 1 of back_of_head (nodes 2 1 0) repeats a triangle of respirator_inner");
+}
+
 // A chin group renamed in the surface, or the chin missing from head_layers_mm, gave a head
 // without chin layers and exit 0.
 TEST(require_stack_for_every_part, names_a_part_without_a_stack_or_a_stack_without_a_part) {
