@@ -124,6 +124,18 @@ void require_layered(const FeModel& model, const std::string& path, const std::s
   if (model.find(kind == "head" ? "respirator_inner" : "head_skin") || model.find("strap_top"))
     throw pipeline::bad_input(path, "holds " + std::string(kind == "head" ? "a respirator" : "a head") +
                                         " or straps: an assembled model, not a " + kind + " from layers");
+  // A head whose wedges were turned inside out (top and bottom swapped) gave straps 47 mm off
+  // and a placement failure far from the cause.
+  for (const Block& b : model.blocks) {
+    if (b.dim != 3 || b.nodes_per_elem != 6) continue;
+    for (std::size_t e = 0; e < b.size(); ++e) {
+      Eigen::Vector3d p[6];
+      for (int k = 0; k < 6; ++k) p[k] = model.nodes[b.conn[6 * e + k]];
+      if (!(layering::wedge_scaled_jacobian(p) > 0))
+        throw pipeline::bad_input(path, "wedge " + std::to_string(e) + " of " + b.name +
+                                            " is inverted or flat: not a " + kind + " as layers writes it");
+    }
+  }
 }
 
 void require_straps(const FeModel& straps, const std::string& path) {

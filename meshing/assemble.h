@@ -17,9 +17,10 @@ std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
 
 /// Checks that `model`, read from `path`, is what `layers` writes for `kind` ("head" or
 /// "respirator"): wedge layers and the surface groups the later stages use (head_skin;
-/// respirator_inner and respirator_rim), and not an assembled model. A surface.msh given instead
-/// went through assemble with exit 0 and made a model with no tissue that solve refused.
-/// @throws Error(bad_input) naming `path` and what is missing.
+/// respirator_inner and respirator_rim), every wedge with a positive scaled Jacobian, and not an
+/// assembled model. A surface.msh given instead went through assemble with exit 0 and made a
+/// model with no tissue that solve refused.
+/// @throws Error(bad_input) naming `path` and what is missing, or the first inverted wedge.
 void require_layered(const layering::FeModel& model, const std::string& path, const std::string& kind);
 
 /// Checks that `straps` (read from `path`) is what the straps stage writes: groups strap_top and

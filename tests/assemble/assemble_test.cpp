@@ -438,4 +438,12 @@ TEST(require_layered, names_a_surface_mesh_or_an_assembled_model) {
   const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, nullptr);
   EXPECT_EQ(message(model, "head"), "holds a respirator or straps: an assembled model, not a head from layers");
   EXPECT_EQ(message(model, "respirator"), "holds a head or straps: an assembled model, not a respirator from layers");
+  // a wedge turned inside out (its top and bottom triangles swapped) gave straps 47 mm off
+  layering::FeModel inverted = s.head;
+  for (auto& b : inverted.blocks)
+    if (b.dim == 3 && b.nodes_per_elem == 6) {
+      std::swap_ranges(b.conn.begin() + 6 * 5, b.conn.begin() + 6 * 5 + 3, b.conn.begin() + 6 * 5 + 3);
+      EXPECT_EQ(message(inverted, "head"), "wedge 5 of " + b.name + " is inverted or flat: not a head as layers writes it");
+      break;
+    }
 }
