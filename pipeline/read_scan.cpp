@@ -22,7 +22,9 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 
 #include "pipeline/error.h"
 #include "pipeline/lower_extension.h"
@@ -157,12 +159,26 @@ PointCloud read_xyz(const std::string& path) {
   return c;
 }
 
+// Runs one of CGAL's PLY reads. It sizes a face's index list from the file, so a damaged count
+// (0x7fffffff, or -3 read as unsigned) ended the stage as "internal error: std::bad_alloc" or
+// "vector::_M_default_append", naming no file.
+template <class Read>
+bool read_ply_guarded(const std::string& path, Read&& read) {
+  try {
+    return read();
+  } catch (const std::bad_alloc&) {
+  } catch (const std::length_error&) {
+  }
+  throw bad_input(path, "damaged PLY: it declares a list or element larger than memory can hold");
+}
+
 void read_ply(const std::string& path, Scan& scan) {
   if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
   std::ifstream in(path, std::ios::binary);
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
-  if (!CGAL::IO::read_PLY(in, pts, polys)) throw bad_input(path, why_text_unreadable(path, "PLY", "end_header"));
+  if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, pts, polys); }))
+    throw bad_input(path, why_text_unreadable(path, "PLY", "end_header"));
   if (!polys.empty()) {
     scan.is_mesh = true;
     scan.soup.points = std::move(pts);
@@ -173,9 +189,11 @@ void read_ply(const std::string& path, Scan& scan) {
   using PN = std::pair<Point, Vector>;
   std::vector<PN> pn;
   std::ifstream in2(path, std::ios::binary);
-  if (!CGAL::IO::read_PLY(in2, std::back_inserter(pn),
-                          CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
-                              .normal_map(CGAL::Second_of_pair_property_map<PN>())))
+  if (!read_ply_guarded(path, [&] {
+        return CGAL::IO::read_PLY(in2, std::back_inserter(pn),
+                                  CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
+                                      .normal_map(CGAL::Second_of_pair_property_map<PN>()));
+      }))
     throw bad_input(path, why_text_unreadable(path, "PLY point set", "end_header"));
   bool has_normals = false;
   for (const auto& p : pn) has_normals |= p.second.squared_length() > 0;
@@ -336,7 +354,8 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
       std::ifstream in(path, std::ios::binary);
       std::vector<Point> points;
       std::vector<std::vector<std::size_t>> polygons;
-      if (!CGAL::IO::read_PLY(in, points, polygons)) throw bad_input(path, "unreadable or truncated PLY");
+      if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, points, polygons); }))
+        throw bad_input(path, "unreadable or truncated PLY");
       check_face_indices(polygons, points.size(), path);
       if (!polygons.empty() && !PMP::is_polygon_soup_a_polygon_mesh(polygons))
         throw bad_input(path, "not a 2-manifold polygon mesh (" + std::to_string(polygons.size()) +
@@ -344,7 +363,8 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     }
     std::ifstream in(path, std::ios::binary);
     std::string comments;
-    if (!CGAL::IO::read_PLY(in, mesh, comments)) throw bad_input(path, "unreadable or truncated PLY");
+    if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, mesh, comments); }))
+      throw bad_input(path, "unreadable or truncated PLY");
   } else {
     Scan scan = read_scan(path, ScanReadOptions{Unit::mm});
     if (!scan.is_mesh) throw bad_input(path, "is a point set, expected a mesh");

@@ -154,6 +154,18 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
   }
   const std::string negative = scratch_file("negative.ply", binary);
   EXPECT_EQ(message_of(negative), negative + ": face 1 refers to vertex -7 of 5");
+  // A face list count of -3 (read as a huge unsigned size) ended the stage as an internal error
+  // naming no file: bad input, for a scan and for a later stage's mesh alike.
+  std::string damaged = "ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\n"
+                        "property float y\nproperty float z\nelement face 1\n"
+                        "property list int int vertex_indices\nend_header\n";
+  damaged.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  const std::int32_t minus_three[4] = {-3, 0, 1, 2};
+  damaged.append(reinterpret_cast<const char*>(minus_three), sizeof minus_three);
+  const std::string list_count = scratch_file("list_count.ply", damaged);
+  EXPECT_EQ(message_of(list_count), list_count + ": damaged PLY: it declares a list or element larger than memory can hold");
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(list_count); }),
+            list_count + ": damaged PLY: it declares a list or element larger than memory can hold");
   // Vertices moved onto another (an edited file): zero-area faces crashed surface_mesh's
   // remeshing and made segment assert or cut absurd parts.
   const std::string collapsed = scratch_file(
