@@ -56,6 +56,15 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what);
 /// @param object     what the file holds ("head", "respirator")
 std::string describe_unit(Unit unit, bool detected, double extent_mm, const std::string& object, double expected_mm);
 
+/// A unit given with --unit is checked as detection would check its guess: the size it gives must
+/// be within a factor 4 of the object's (a head in mm read with --unit m came out 328 m across
+/// and was reconstructed with a 1.3 m spacing, exit 0).
+/// @param extent_mm  largest bounding-box extent after scaling by `unit` [mm]
+/// @throws Error(bad_input) "<path>: read in m (--unit) its largest extent is 328163 mm, but a
+///         head is about 250 mm: is the unit right?"
+void require_forced_unit_plausible(const std::string& path, Unit unit, double extent_mm, const std::string& object,
+                                   double expected_mm);
+
 /// The stages after align read files in mm only (align detects and converts the unit of a scan).
 /// A file in m, cm or inches given to them otherwise fails far from its cause: no chin found, a
 /// 10-triangle "fit" written with exit 0, 60 layer-thinning passes. This checks the size the way

@@ -50,6 +50,8 @@ int main(int argc, char** argv) {
     const double extent_mm = pipeline::largest_extent(mesh.points());
     pipeline::log("align", in + ": " + pipeline::describe_unit(unit_read, unit == pipeline::Unit::automatic, extent_mm,
                                                                kind_name, expected_mm));
+    if (unit != pipeline::Unit::automatic)
+      pipeline::require_forced_unit_plausible(in, unit_read, extent_mm, kind_name, expected_mm);
     // 3. Align
     progress.step("symmetry plane and axes");
     scan2cad::AlignOptions opt;

@@ -495,6 +495,13 @@ std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const 
                                  kind_name, expected_size_mm(kind()));
 }
 
+void KindAndUnitOptions::require_plausible_size(const pipeline::Scan& scan, const std::string& path) const {
+  if (pipeline::parse_unit(unit_name) != pipeline::Unit::automatic)
+    pipeline::require_forced_unit_plausible(path, scan.unit,
+                                            pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points),
+                                            kind_name, expected_size_mm(kind()));
+}
+
 ReconstructMethod parse_reconstruct_method(const std::string& name, ScanKind kind) {
   // respirators: the inner side of the cup is an open sheet (orient_thin_shell), which
   // advancing front keeps open and Poisson would close into a blob

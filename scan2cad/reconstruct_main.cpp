@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
     pipeline::log("reconstruct", in + ": " + kind_unit.describe_unit(scan));
+    kind_unit.require_plausible_size(scan, in);
     // 3. Meshes pass through as they are, in mm (repair handles soups); clouds are reconstructed
     if (scan.is_mesh) {
       pipeline::log("reconstruct", in + ": is a mesh (" + std::to_string(scan.soup.polygons.size()) +

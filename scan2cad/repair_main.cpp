@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);
     pipeline::log("repair", in + ": " + kind_unit.describe_unit(scan));
+    kind_unit.require_plausible_size(scan, in);
     if (!scan.is_mesh)
       throw pipeline::bad_input(in, "is a point cloud without faces, expected a mesh (run reconstruct first)");
     // 3. Repair

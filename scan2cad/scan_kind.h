@@ -29,6 +29,8 @@ struct KindAndUnitOptions {
   pipeline::ScanReadOptions read_options() const;
   /// pipeline::describe_unit for `scan`, read with these options.
   std::string describe_unit(const pipeline::Scan& scan) const;
+  /// With --unit given, pipeline::require_forced_unit_plausible for `scan`, read from `path`.
+  void require_plausible_size(const pipeline::Scan& scan, const std::string& path) const;
 };
 
 }  // namespace scan2cad

@@ -195,6 +195,12 @@ TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   const CliRun forced = run("repair --in " + in + " --kind head --unit in --edge 4 --out " + out);
   ASSERT_EQ(forced.code, 0) << forced.err;
   EXPECT_NE(forced.err.find(in + ": unit in (forced): largest extent 285.7 mm"), std::string::npos) << forced.err;
+  // a forced unit that makes no head (inches read as m: 11 m across) is refused, no output
+  fs::remove(out);
+  const CliRun wrong = run("repair --in " + in + " --kind head --unit m --edge 4 --out " + out);
+  EXPECT_EQ(wrong.code, 2) << wrong.err;
+  EXPECT_NE(wrong.err.find(in + ": read in m (--unit) its largest extent is 11246.4 mm"), std::string::npos) << wrong.err;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 // An edge far below the head's scale: the remeshing ran until killed (--edge 0.001 on NIOSH
