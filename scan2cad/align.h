@@ -68,9 +68,12 @@ HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head);
 
 /// Limits of require_head_frame. Mirror: aligned heads 0.02 mm (NIOSH) and 0.04-0.05 mm (the five
 /// generated case heads, reconstructed scans); a head turned about y by 10 deg 3.8 mm, by 20 deg
-/// 6.9-8.2 mm; 5 mm leaves room for a real face's asymmetry. Angles: align is within 2 deg.
+/// 6.9-8.2 mm; 5 mm leaves room for a real face's asymmetry. Angles: align is within 2 deg, and
+/// detection holds within about 8 deg of pitch only (the medium case head, aligned: face length
+/// 119.3 mm; pitched +-5 deg 115.8 / 122.7 mm, +-8 deg 113.5 / 123.8 mm; +10 deg 152.8 mm with a
+/// guessed sellion, -10 deg 171.9 mm with no warning; the limit was 20 deg before).
 inline constexpr double head_frame_max_mirror_mm = 5.0;
-inline constexpr double head_frame_max_angle_deg = 20.0;
+inline constexpr double head_frame_max_angle_deg = 8.0;
 
 /// Refuses a head that is not in the frame, so that landmarks are not detected (or taken from a
 /// user's file) on a raw scan: upside down, detection found a "sellion" on the neck (with a

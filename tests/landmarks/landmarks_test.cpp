@@ -160,8 +160,9 @@ TEST(read_landmarks, rejects_a_confidence_that_is_not_a_number) {
 
 // A head that is not in the frame is refused before any landmark is looked for: upside down, the
 // detection found a "sellion" on the neck (confidence 0, a warning) and landmarks exited 0.
-// Aligned heads and small slips (10 deg, within what a hand alignment may leave) pass; each
-// larger pose is out of the frame. Flips and pitches show in the angles, turns, rolls and shifts
+// Aligned heads and small slips (turned 10 deg, pitched 5 deg: within what a hand alignment may
+// leave) pass; each larger pose is out of the frame (pitched 10 deg, detection gave a face 172 mm
+// long without a warning). Flips and pitches show in the angles, turns, rolls and shifts
 // in the mirror distance.
 TEST(require_head_frame, refuses_a_head_turned_flipped_or_shifted_out_of_the_frame) {
   struct Pose {
@@ -175,7 +176,10 @@ TEST(require_head_frame, refuses_a_head_turned_flipped_or_shifted_out_of_the_fra
                         none = Eigen::Vector3d::Zero();
   const Pose poses[] = {{"aligned", X, 0, none, true},
                         {"turned 10 deg about y", Y, 10, none, true},
-                        {"pitched 10 deg about x", X, 10, none, true},
+                        {"pitched 5 deg about x", X, 5, none, true},
+                        {"pitched -5 deg about x", X, -5, none, true},
+                        {"pitched 10 deg about x", X, 10, none, false},
+                        {"pitched -10 deg about x", X, -10, none, false},
                         {"upside down (180 deg about z)", Z, 180, none, false},
                         {"face down (180 deg about x)", X, 180, none, false},
                         {"looking sideways (90 deg about y)", Y, 90, none, false},
