@@ -1,6 +1,7 @@
 #include "solve/load_model.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -216,6 +217,9 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   for (const auto& o : array_of(d, "fixed")) {
     const std::string g = str(d, o, "group", "fixed[]");
     const std::string dofs = o.contains("dofs") ? str(d, o, "dofs", "fixed[" + g + "]") : "xyz";
+    // "" fixed nothing without a word, "xxx" fixed x three times
+    if (dofs.empty() || std::set<char>(dofs.begin(), dofs.end()).size() != dofs.size())
+      throw d.bad("fixed[" + g + "].dofs: '" + dofs + "', expected some of x, y, z, each once");
     for (char c : dofs) m.bcs.push_back({g, dof_of(d, std::string(1, c), "fixed[" + g + "]"), BcKind::fixed, {}});
   }
   for (const auto& o : array_of(d, "prescribed")) {
@@ -265,6 +269,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   if (j.contains("initial_state")) {
     const json& o = j["initial_state"];
     m.initial_state.file = str(d, o, "file", "initial_state");
+    if (m.initial_state.file.empty()) throw d.bad("initial_state.file: empty (leave initial_state out to start at rest)");
     m.initial_state.reset_time = flag(d, o, "reset_time", "initial_state", false);
     m.initial_state.reset_velocity = flag(d, o, "reset_velocity", "initial_state", false);
   }
@@ -275,7 +280,10 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   k.damping_alpha = num(d, c, "damping_alpha", "control", 0, false);
   k.dt_scale = num(d, c, "dt_scale", "control", 0.9, false);
   k.dt_target = num(d, c, "dt_target", "control", 0, false);
-  k.dt_update_interval = int(num(d, c, "dt_update_interval", "control", 100, false));
+  const double interval = num(d, c, "dt_update_interval", "control", 100, false);
+  if (interval != std::floor(interval) || !(std::fabs(interval) < 1e9))  // 1.5 was read as 1
+    throw d.bad("control.dt_update_interval: " + pipeline::format_number(interval) + ", expected a whole number of steps");
+  k.dt_update_interval = int(interval);
   k.hourglass = num(d, c, "hourglass", "control", 0.1, false);
   k.output_interval = num(d, c, "output_interval", "control", 0, false);
   k.history_interval = num(d, c, "history_interval", "control", 0, false);

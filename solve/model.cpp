@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "pipeline/error.h"
 #include "pipeline/units.h"
@@ -88,8 +89,9 @@ void check_model(const Model& m) {
   for (const auto& p : m.parts) {
     if (p.material < 0 || p.material >= int(m.materials.size()))
       throw bad("part '" + p.name + "': no material");
-    if (is_membrane(p.type) && !(p.thickness > 0))
-      throw bad("part '" + p.name + "': membrane needs a thickness > 0");
+    // A membrane thicker than 100 mm is no membrane (a strap is 1 mm): 1e9 ran with exit 0.
+    if (is_membrane(p.type) && !(p.thickness > 0 && p.thickness <= 100))
+      throw bad("part '" + p.name + "': membrane needs a thickness in (0, 100] mm");
     if (p.conn.empty()) throw bad("part '" + p.name + "': no elements");
     for (int id : p.conn) {
       if (id < 0 || std::size_t(id) >= n) throw bad("part '" + p.name + "': node id out of range");
@@ -103,15 +105,21 @@ void check_model(const Model& m) {
   }
   for (const auto& l : m.loads) check_group(l.group);
   for (const auto& iv : m.initial_velocities) check_group(iv.group);
+  std::set<std::string> names;  // a second tie or contact of one name is a copy-paste slip
   for (const auto& t : m.ties) {
     check_group(t.group_a);
     check_group(t.group_b);
+    if (!(t.tolerance > 0)) throw bad("tie '" + t.name + "': tolerance must be > 0 [mm]");
+    if (!names.insert("tie " + t.name).second) throw bad("two ties named '" + t.name + "'");
   }
   for (const auto& c : m.contacts) {
     check_group(c.slave);
     m.surface(c.master);
     if (!(c.penalty_scale > 0 && c.penalty_scale <= 1))
       throw bad("contact '" + c.name + "': penalty_scale must be in (0, 1]");
+    // Coulomb coefficients of skin on fabric or silicone are 0.2-1; 1e9 ran with exit 0.
+    if (!(c.friction >= 0 && c.friction <= 2)) throw bad("contact '" + c.name + "': friction must be in [0, 2]");
+    if (!names.insert("contact " + c.name).second) throw bad("two contacts named '" + c.name + "'");
   }
   for (const auto& g : m.output.history_groups) check_group(g);
   for (const auto& c : m.contacts)
@@ -119,13 +127,16 @@ void check_model(const Model& m) {
       if (!has_mass[id]) throw bad("contact '" + c.name + "': slave node " + std::to_string(m.node_tag(std::size_t(id))) + " belongs to no part (no mass)");
   const Control& c = m.control;
   if (!(c.end_time > 0)) throw bad("control.end_time must be > 0");
-  if (!(c.damping_alpha >= 0)) throw bad("control.damping_alpha must be >= 0");
+  // Mass-proportional damping [1/ms]: the decks use 0.5; above 1000 a velocity dies within a
+  // microsecond and the run stands still (1e12 and 1e300 ran with exit 0).
+  if (!(c.damping_alpha >= 0 && c.damping_alpha <= 1000)) throw bad("control.damping_alpha must be in [0, 1000] [1/ms]");
   if (!(c.dt_scale > 0 && c.dt_scale <= 1)) throw bad("control.dt_scale must be in (0, 1]");
   if (!(c.dt_target >= 0)) throw bad("control.dt_target must be >= 0");
   if (c.dt_update_interval < 1) throw bad("control.dt_update_interval must be >= 1");
   if (!(c.hourglass >= 0 && c.hourglass <= 1)) throw bad("control.hourglass must be in [0, 1]");
   if (!(c.output_interval >= 0) || !(c.history_interval >= 0)) throw bad("output intervals must be >= 0");
-  if (!(c.energy_tolerance > 0)) throw bad("control.energy_tolerance must be > 0");
+  // a fraction of the largest energy: above 1 the guard never trips
+  if (!(c.energy_tolerance > 0 && c.energy_tolerance <= 1)) throw bad("control.energy_tolerance must be in (0, 1]");
   if (!(c.penetration_tolerance > 0)) throw bad("control.penetration_tolerance must be > 0");
   static const char* known[] = {"displacement", "velocity", "contact_pressure", "contact_shear", "von_mises"};
   for (const auto& d : m.output.node_data)

@@ -71,6 +71,30 @@ TEST(apply_deck, errors_name_the_key) {
                 .find("nu"),
             std::string::npos);
   EXPECT_EQ(message("{" + mat + R"(, "control": {"end_time": 1}})"), "no error");
+  // Values that ran with exit 0 (fuzzed decks, 2026-12-06): each names its key.
+  const auto with = [&](const std::string& rest) { return message("{" + mat + ", " + rest + "}"); };
+  EXPECT_EQ(with(R"("control": {"end_time": 1, "damping_alpha": 1e12})"),
+            "block + d.json: control.damping_alpha must be in [0, 1000] [1/ms]");
+  EXPECT_EQ(with(R"("control": {"end_time": 1, "energy_tolerance": 1e9})"),
+            "block + d.json: control.energy_tolerance must be in (0, 1]");
+  EXPECT_EQ(with(R"("control": {"end_time": 1, "dt_update_interval": 1.5})"),
+            "d.json: control.dt_update_interval: 1.5, expected a whole number of steps");
+  for (const char* dofs : {"", "xxz"})
+    EXPECT_EQ(with(std::string(R"("fixed": [{"group": "zmin", "dofs": ")") + dofs + R"("}], "control": {"end_time": 1})"),
+              std::string("d.json: fixed[zmin].dofs: '") + dofs + "', expected some of x, y, z, each once");
+  EXPECT_EQ(with(R"("initial_state": {"file": ""}, "control": {"end_time": 1})"),
+            "d.json: initial_state.file: empty (leave initial_state out to start at rest)");
+  EXPECT_EQ(with(R"("ties": [{"group_a": "xmin", "group_b": "xmax", "tolerance": -1}], "control": {"end_time": 1})"),
+            "block + d.json: tie 'xmin-xmax': tolerance must be > 0 [mm]");
+  const std::string contact = R"({"slave": "zmax", "master": "zmin", "name": "c", "friction": F})";
+  auto contacts = [&](const std::string& friction, int n) {
+    std::string list;
+    for (int i = 0; i < n; ++i) list += (i ? ", " : "") + std::string(contact).replace(contact.find('F'), 1, friction);
+    return with(R"("contact": [)" + list + R"(], "control": {"end_time": 1})");
+  };
+  EXPECT_EQ(contacts("0.5", 1), "no error");
+  EXPECT_EQ(contacts("1e9", 1), "block + d.json: contact 'c': friction must be in [0, 2]");
+  EXPECT_EQ(contacts("0.5", 2), "block + d.json: two contacts named 'c'");
 }
 
 // A contact's slave node without mass is named as outputs name it: by its tag, or by its 1-based
