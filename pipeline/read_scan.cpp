@@ -6,6 +6,7 @@
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 #include <CGAL/property_map.h>
 
@@ -323,6 +324,9 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   check_finite(pts, path, "vertex", "coordinate");
   check_finite(scan.cloud.normals, path, "point", "normal");
   check_face_indices(scan.soup.polygons, pts.size(), path);
+  // Vertices no face uses carry no surface but counted in the size that decides the unit: a stray
+  // point (a scanner's marker at the origin) made a head look metres wide.
+  if (scan.is_mesh) PMP::remove_isolated_points_in_polygon_soup(scan.soup.points, scan.soup.polygons);
 
   scan.unit = opt.unit == Unit::automatic ? detect_unit(largest_extent(pts), opt.expected_size_mm, path) : opt.unit;
   scale_points(pts, mm_per_unit(scan.unit));
@@ -373,6 +377,10 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
   }
   if (mesh.number_of_faces() == 0) throw bad_input(path, "mesh has no faces");
+  // as in read_scan: vertices no face uses counted in the size checks (no stage writes any)
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) mesh.remove_vertex(v);
+  if (mesh.has_garbage()) mesh.collect_garbage();
   for (auto v : mesh.vertices()) {
     const Point& p = mesh.point(v);
     if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))

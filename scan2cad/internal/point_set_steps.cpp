@@ -9,6 +9,7 @@
 #include <CGAL/remove_outliers.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <limits>
 
@@ -111,6 +112,20 @@ void jet_normals(std::vector<PointWithNormal>& pn, unsigned k) {
     });
   }
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i].second = normal[i];
+}
+
+double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples) {
+  if (pn.empty() || samples == 0) return 1.0;
+  const std::size_t stride = std::max<std::size_t>(1, pn.size() / samples);
+  const PointNeighborQuery query(pn, PointWithNormalPointMap());
+  std::size_t tested = 0, along = 0;
+  for (std::size_t i = 0; i < pn.size(); i += stride, ++tested) {
+    const pipeline::Vector jet =
+        CGAL::internal::jet_estimate_normal<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, jet_degree_fitting);
+    const double scale = std::sqrt(jet.squared_length() * pn[i].second.squared_length());
+    along += scale > 0 && std::abs(jet * pn[i].second) >= std::cos(M_PI / 4) * scale;
+  }
+  return double(along) / double(tested);
 }
 
 double spike_move_limit_mm(std::vector<double> moves_mm) {

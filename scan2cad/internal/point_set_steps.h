@@ -55,6 +55,11 @@ void jet_smooth(std::vector<PointWithNormal>& pn, unsigned k);
 /// CGAL::jet_estimate_normals(points, k): unoriented unit normals of the quadric jets.
 void jet_normals(std::vector<PointWithNormal>& pn, unsigned k);
 
+/// Not a CGAL step: the share of up to `samples` evenly spread points whose own normal lies within
+/// 45 deg (either sign) of the normal of their k-nearest quadric jet. A scanner's normals follow its
+/// surface nearly everywhere; normals all (0, 0, 1) do on ~30 % of a head.
+double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples);
+
 /// Not a CGAL step: the move [mm] above which a jet projection calls its point a spike, 4 robust
 /// standard deviations (1.4826 × the median) of `moves_mm`, the points' moves onto their jets.
 /// Infinite when there are no moves. Shared by reconstruct's smoothing and the own-side refit.

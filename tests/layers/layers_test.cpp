@@ -284,7 +284,8 @@ TEST(layers_cli, empty_truncated_or_nan_msh_exits_2_with_one_line_naming_it) {
       // (its only group, forehead, has no triangles; the stacks' chin is the first group missing)
       {"no_elements.msh", head_sized_nodes_only, "no triangle group chin, which "},
       {"no_end_nodes.msh", without_end_nodes, "section $Nodes (line 12) is not closed by $EndNodes"},
-      {"truncated.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n", "gmsh cannot read it"},
+      {"truncated.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n",
+       "section $Nodes (line 4) is not closed by $EndNodes (truncated file?)"},
       {"nan.msh", triangle_with_nan_node, "node 2 has a non-finite coordinate"},
   };
   for (const auto& [name, text, words] : bad) {

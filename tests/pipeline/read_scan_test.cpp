@@ -179,6 +179,24 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
   EXPECT_EQ(message_of(faces_first), faces_first + ": its faces come before its vertices: a mesh a stage wrote lists vertices first");
 }
 
+// A vertex no face uses (a scanner's marker far off) decided the unit: a 200 mm head with one at
+// 100 m read as a head in metres... scaled to 1e5 m. Such vertices are dropped before the size is
+// measured, by read_scan and by read_surface_mesh.
+TEST(read_scan, vertices_no_face_uses_are_dropped_before_the_unit_is_detected) {
+  const std::string off = scratch_file("stray.off", "OFF\n4 1 0\n0 0 0\n200 0 0\n0 200 0\n100000 0 0\n3 0 1 2\n");
+  const pipeline::Scan scan = pipeline::read_scan(off);
+  EXPECT_EQ(scan.unit, pipeline::Unit::mm);
+  EXPECT_EQ(scan.soup.points.size(), 3u);
+  EXPECT_EQ(pipeline::largest_extent(scan.soup.points), 200.0);
+  const std::string ply = scratch_file(
+      "stray.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+                   "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                   "100000 0 0\n0 0 0\n200 0 0\n0 200 0\n3 1 2 3\n");
+  const pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(ply);
+  EXPECT_EQ(mesh.number_of_vertices(), 3u);
+  EXPECT_EQ(pipeline::largest_extent(mesh.points()), 200.0);
+}
+
 // A NaN normal reached Poisson, which failed as an algorithm error ("normals inconsistent?").
 TEST(read_scan, a_nan_normal_is_bad_input_naming_the_point) {
   pipeline::PointCloud c;
