@@ -43,6 +43,8 @@ int main(int argc, char** argv) {
     pipeline::require_extension("--out", out, {".msh"});
     pipeline::require_extension("--deck1", deck1, {".json"});
     pipeline::require_extension("--deck2", deck2, {".json"});
+    // solve writes its state as state.bin; '' or a deck's name went into deck2 with exit 0
+    pipeline::require_extension("--state1", state1, {".bin"});
     pipeline::require_writable_outputs({out, deck1, deck2});
     const auto h = layering::read_fe_model(head);
     meshing::require_layered(h, head, "head");

@@ -42,3 +42,22 @@ TEST(stage_outputs, a_json_output_not_named_json_is_a_usage_error_before_any_wor
     EXPECT_EQ(files, 0u) << args;
   }
 }
+
+// assemble's --state1 names the stage I state the stage II deck starts from, which solve writes
+// as state.bin: '' or a deck's name went into deck2 with exit 0 (solve then refused the deck).
+TEST(stage_outputs, assemble_state1_not_named_bin_is_a_usage_error_before_any_work) {
+  const fs::path dir = scratch_dir() / "state1";
+  fs::create_directories(dir);
+  const std::string d = dir.string() + "/", none = d + "absent";
+  for (const std::string& state1 : {std::string("''"), d + "s1.json"}) {
+    const std::string log = d + "err.txt";
+    EXPECT_EQ(run_command(std::string(BIN_DIR) + "/assemble --head " + none + "1.msh --respirator " + none +
+                          "2.msh --straps " + none + "3.msh --landmarks " + none + ".json --materials " + none +
+                          "m.json --out " + d + "model.msh --deck1 " + d + "s1.json --deck2 " + d + "s2.json -S " +
+                          state1 + " 2> " + log),
+              1)
+        << state1;
+    EXPECT_NE(last_line_of(log).find("--state1: '"), std::string::npos) << last_line_of(log);
+    EXPECT_NE(last_line_of(log).find("' must end in .bin"), std::string::npos) << last_line_of(log);
+  }
+}
