@@ -90,9 +90,23 @@ class MshText {
  public:
   explicit MshText(const std::string& path) : path_(path) {
     std::ifstream in(path, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    text_ = bytes.str();
+    // A binary file's sections are raw bytes: only its head is read, up to the format line.
+    for (std::string line; std::getline(in, line) && text_.size() < 100000;) {
+      text_ += line + "\n";
+      if (line.rfind("$MeshFormat", 0) == 0 && std::getline(in, line)) {
+        text_ += line + "\n";
+        std::istringstream format(line);
+        std::string file_type;
+        format >> format_version_ >> file_type;
+        binary_ = file_type == "1";
+        break;
+      }
+    }
+    if (!binary_) {
+      std::ostringstream rest;
+      rest << in.rdbuf();
+      text_ += rest.str();
+    }
     for (std::size_t start = 0; start < text_.size();) {
       std::size_t end = text_.find('\n', start);
       if (end == std::string::npos) end = text_.size();
@@ -104,14 +118,11 @@ class MshText {
   }
 
   void check() const {
-    if (lines_.empty() || lines_[0] != "$MeshFormat")
+    if (lines_.empty() || (lines_[0] != "$MeshFormat" && lines_[0] != "$Comments"))
       throw bad_input(path_, "not a gmsh mesh: its first line is '" + shown(lines_.empty() ? "" : lines_[0]) +
                                  "', expected $MeshFormat");
-    if (lines_.size() < 2) throw bad_input(path_, "$MeshFormat has no version line (truncated file?)");
-    const auto format = words(lines_[1]);
-    if (format.size() < 2) throw error(1, "expected '<version> <file type> <data size>'");
-    if (format[1] != "0") return;  // binary
-    const std::string version(format[0]);
+    if (binary_) return;
+    const std::string& version = format_version_;
     for (const Section& s : sections()) {
       if (s.name == "Nodes" && version == "4.1") check_nodes_41(s);
       if (s.name == "Elements" && version == "4.1") check_elements_41(s);
@@ -171,7 +182,7 @@ class MshText {
     for (long long b = 0; b < blocks; ++b) {
       const long long n = count(++i, 3, "'<dim> <entity> <type> <elements in block>'");
       if (n > (long long)(s.end - i - 1)) throw too_many(i, n, "elements", s.end - i - 1);
-      for (long long e = 0; e < n; ++e) check_tags(++i, 0);
+      for (long long e = 0; e < n; ++e) check_tags(++i, 1);
     }
     if (i + 1 != s.end) throw error(i + 1, "more lines in $Elements than its blocks declare");
   }
@@ -191,15 +202,16 @@ class MshText {
       const auto w = words(lines_[i]);
       const long long ntags = w.size() >= 3 ? integer(w[2], i) : -1;
       if (ntags < 0 || (long long)w.size() < 4 + ntags) throw error(i, "expected '<tag> <type> <ntags> <tags...> <nodes...>'");
-      check_tags(i, 3 + std::size_t(ntags));
+      check_tags(i, 3 + std::size_t(ntags));  // a point element (type 15) has one node
     }
   }
 
-  // Every word of line i from `first` on a positive integer (an element's tag and node tags).
-  void check_tags(std::size_t i, std::size_t first) const {
+  // The element tag (word 0) and node tags (words from `first_node` on) of line i, each a
+  // positive integer; at least one node.
+  void check_tags(std::size_t i, std::size_t first_node) const {
     const auto w = words(lines_[i]);
-    if (w.size() < first + 2) throw error(i, "expected an element tag and its node tags, got '" + shown(lines_[i]) + "'");
-    for (std::size_t k = first; k < w.size(); ++k)
+    if (w.size() <= first_node) throw error(i, "expected an element tag and its node tags, got '" + shown(lines_[i]) + "'");
+    for (std::size_t k = 0; k < w.size(); k = k == 0 ? first_node : k + 1)
       if (integer(w[k], i) < 1) throw error(i, "tag '" + std::string(w[k]) + "' is not a positive integer");
   }
 
@@ -240,10 +252,11 @@ class MshText {
   }
   Error too_many(std::size_t i, long long n, const char* what, std::size_t left) const {
     return error(i, "a block of " + std::to_string(n) + " " + what + ", but its section has " + std::to_string(left) +
-                        " lines left (truncated or corrupt file?)");
+                        (left == 1 ? " line" : " lines") + " left (truncated or corrupt file?)");
   }
 
-  std::string path_, text_;
+  std::string path_, text_, format_version_;
+  bool binary_ = false;
   std::vector<std::string_view> lines_;
 };
 

@@ -1,16 +1,18 @@
 #pragma once
 /// read_msh: the nodes and named physical groups of a gmsh .msh file, read with the gmsh API.
 ///
-/// Input:  path of a .msh file, any version or encoding gmsh reads (2.2, 4.x, ASCII or binary).
+/// Input:  path of a .msh file, 2.x or 4.x, ASCII or binary, starting with $MeshFormat (or
+///         $Comments); gmsh's older MSH 1 ($NOD) is refused.
 /// Output: MshFile: every node once, in increasing tag order (not gmsh's entity order, which can
 ///         change between runs: read_msh.cpp), with its file tag and coordinates; every physical
 ///         group in gmsh's order with its elements, one block per entity and element type, as
 ///         0-based indices into the nodes.
 /// Throws pipeline::Error(bad_input) naming the file when it is missing, a directory, empty, does
 /// not start with $MeshFormat (gmsh would run it as a .geo script), is unreadable by gmsh, is an
-/// ASCII file with a section not closed (gmsh skips the rest of the file silently), a block count
-/// its section cannot hold or an element tag that is not a positive integer (libgmsh aborts or
-/// crashes on these), has no nodes, or has a node with a NaN or infinite coordinate or an element
+/// ASCII file with a section not closed (gmsh skips the rest of the file silently), or, in ASCII
+/// 2.x and 4.1 (what the stages and gmsh write), a block count its section cannot hold or an
+/// element tag that is not a positive integer, one element a line (libgmsh aborts or crashes on
+/// these), has no nodes, or has a node with a NaN or infinite coordinate or an element
 /// on a node it lacks. Whether groups must exist, be named or hold one element type is
 /// the caller's rule.
 ///

@@ -377,15 +377,16 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
   }
   if (mesh.number_of_faces() == 0) throw bad_input(path, "mesh has no faces");
-  // as in read_scan: vertices no face uses counted in the size checks (no stage writes any)
-  for (auto v : mesh.vertices())
-    if (mesh.is_isolated(v)) mesh.remove_vertex(v);
-  if (mesh.has_garbage()) mesh.collect_garbage();
   for (auto v : mesh.vertices()) {
     const Point& p = mesh.point(v);
     if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
       throw bad_input(path, "vertex " + std::to_string(std::size_t(v)) + " has a non-finite coordinate");
   }
+  // as in read_scan: vertices no face uses counted in the size checks (no stage writes any);
+  // removed after the check above, whose vertex numbers are the file's
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) mesh.remove_vertex(v);
+  if (mesh.has_garbage()) mesh.collect_garbage();
   // A stage's output has none (repair removes them); in an edited or corrupted file they made
   // CGAL's remeshing (surface_mesh) crash and segment's ray tests assert or cut absurd parts.
   std::size_t degenerate = 0, first = 0;

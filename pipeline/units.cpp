@@ -77,7 +77,7 @@ std::string describe_unit(Unit unit, bool detected, double extent_mm, const std:
 void require_forced_unit_plausible(const std::string& path, Unit unit, double extent_mm, const std::string& object,
                                    double expected_mm) {
   if (plausible_size(extent_mm, expected_mm)) return;
-  throw bad_input(path, "read in " + unit_name(unit) + " (--unit) its largest extent is " + format_number(extent_mm) +
+  throw bad_input(path, "read in " + unit_name(unit) + " (--unit), its largest extent is " + format_number(extent_mm) +
                             " mm, but a " + object + " is about " + format_number(expected_mm) + " mm: is the unit right?");
 }
 

@@ -60,7 +60,7 @@ std::string describe_unit(Unit unit, bool detected, double extent_mm, const std:
 /// be within a factor 4 of the object's (a head in mm read with --unit m came out 328 m across
 /// and was reconstructed with a 1.3 m spacing, exit 0).
 /// @param extent_mm  largest bounding-box extent after scaling by `unit` [mm]
-/// @throws Error(bad_input) "<path>: read in m (--unit) its largest extent is 328163 mm, but a
+/// @throws Error(bad_input) "<path>: read in m (--unit), its largest extent is 328163 mm, but a
 ///         head is about 250 mm: is the unit right?"
 void require_forced_unit_plausible(const std::string& path, Unit unit, double extent_mm, const std::string& object,
                                    double expected_mm);

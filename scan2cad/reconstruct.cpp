@@ -548,7 +548,8 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   const unsigned k = unsigned(opt.neighbors);
   // Normals that do not follow the points' surface are estimated afresh, like missing ones: all
   // (0, 0, 1) on a head scan took Poisson 5 minutes and 3.6 GB to a CGAL assertion. Checked at
-  // 2,000 points (a few ms); see share_of_normals_along_surface.
+  // 2,000 points (the k-d tree over all points costs most of it: ~1 s on a million);
+  // see share_of_normals_along_surface.
   if (has_normals) {
     const double along = internal::share_of_normals_along_surface(pn, k, 2000);
     if (along < min_share_of_normals_along_surface) {

@@ -114,7 +114,8 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   // A state from past the end (a restart from a longer run) ran 0 steps and wrote its results.
   if (!(s.time() < m.control.end_time))
     throw pipeline::bad_input(start_file, "the run starts at t = " + fmt(s.time()) + " ms, not before control.end_time " +
-                                              fmt(m.control.end_time) + " ms (reset_time, or a later end_time?)");
+                                              fmt(m.control.end_time) + " ms (" +
+                                              (opt.restart.empty() ? "initial_state.reset_time" : "a later end_time") + "?)");
   // An end time in the wrong unit (s read as ms is a factor 1000; 1e300 is a typo) would run for
   // days or for ever: a billion steps is 115 days of the medium_onesize model (~100 steps/s on 2
   // cores, 2026-12-05). Checked before the output directory is made.

@@ -7,6 +7,7 @@
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/require_file.h"
 
 namespace solve {
 namespace {
@@ -41,6 +42,7 @@ void save_state(const std::string& path, const SolverState& s) {
 }
 
 SolverState load_state(const std::string& path) {
+  pipeline::require_file(path);  // a pipe given as --restart blocked the run
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw pipeline::bad_input(path, "cannot open the state file");
   const std::uint64_t file_bytes = std::uint64_t(in.tellg());

@@ -138,13 +138,15 @@ void require_clean_triangles(const FeModel& surface, const std::string& surface_
     if (b.dim != 2 || b.nodes_per_elem != 3) continue;
     for (std::size_t e = 0; e < b.size(); ++e) {
       std::array<int, 3> t = {b.conn[3 * e], b.conn[3 * e + 1], b.conn[3 * e + 2]};
-      const std::string which = "triangle " + std::to_string(e) + " of " + b.name + " (nodes " + std::to_string(t[0]) +
-                                " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + ")";
+      const auto which = [&] {
+        return "triangle " + std::to_string(e) + " of " + b.name + " (nodes " + std::to_string(b.conn[3 * e]) + " " +
+               std::to_string(b.conn[3 * e + 1]) + " " + std::to_string(b.conn[3 * e + 2]) + ")";
+      };
       const Eigen::Vector3d &p = surface.nodes[t[0]], &q = surface.nodes[t[1]], &r = surface.nodes[t[2]];
-      if (!((q - p).cross(r - p).norm() > 0)) throw pipeline::bad_input(surface_path, which + " has zero area");
+      if (!((q - p).cross(r - p).norm() > 0)) throw pipeline::bad_input(surface_path, which() + " has zero area");
       std::sort(t.begin(), t.end());
       if (const auto [it, fresh] = seen.emplace(t, b.name); !fresh)
-        throw pipeline::bad_input(surface_path, which + " repeats a triangle of " + it->second);
+        throw pipeline::bad_input(surface_path, which() + " repeats a triangle of " + it->second);
     }
   }
 }

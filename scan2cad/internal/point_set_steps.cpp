@@ -116,7 +116,7 @@ void jet_normals(std::vector<PointWithNormal>& pn, unsigned k) {
 
 double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples) {
   if (pn.empty() || samples == 0) return 1.0;
-  const std::size_t stride = std::max<std::size_t>(1, pn.size() / samples);
+  const std::size_t stride = (pn.size() + samples - 1) / samples;  // at most `samples` points
   const PointNeighborQuery query(pn, PointWithNormalPointMap());
   std::size_t tested = 0, along = 0;
   for (std::size_t i = 0; i < pn.size(); i += stride, ++tested) {

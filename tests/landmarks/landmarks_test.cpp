@@ -161,8 +161,8 @@ TEST(read_landmarks, rejects_a_confidence_that_is_not_a_number) {
 // A head that is not in the frame is refused before any landmark is looked for: upside down, the
 // detection found a "sellion" on the neck (confidence 0, a warning) and landmarks exited 0.
 // Aligned heads and small slips (turned 10 deg, pitched 5 deg: within what a hand alignment may
-// leave) pass; each larger pose is out of the frame (pitched 10 deg, detection gave a face 172 mm
-// long without a warning). Flips and pitches show in the angles, turns, rolls and shifts
+// leave) pass; each larger pose is out of the frame (pitched -10 deg, detection gave a face
+// 172 mm long without a warning). Flips and pitches show in the angles, turns, rolls and shifts
 // in the mirror distance.
 TEST(require_head_frame, refuses_a_head_turned_flipped_or_shifted_out_of_the_frame) {
   struct Pose {

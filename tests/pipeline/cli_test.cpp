@@ -69,6 +69,13 @@ TEST(cli, rejects_absurd_and_malformed_values) {
       EXPECT_EQ(e.kind, pipeline::ErrorKind::usage);
     }
   }
+  auto message = [&](std::vector<std::string> args) {
+    Args a(std::move(args));
+    return error_message(pipeline::ErrorKind::usage, [&] { cli.parse(a.argc(), a.argv()); });
+  };
+  EXPECT_EQ(message({"prog", "-i", "a", "-e", "2", "--edge", "3"}), "--edge given twice: give each option once");
+  EXPECT_EQ(message({"prog", "-i", "a", "--verbose=false"}), "--verbose is a flag and takes no value, got 'false'");
+  EXPECT_EQ(message({"prog", "-i", "a", "-e", "0x8"}), "--edge: expected a finite number, got '0x8'");
 }
 
 TEST(cli, run_main_maps_error_kinds_to_exit_codes) {

@@ -133,7 +133,7 @@ TEST(read_msh, refuses_a_script_impossible_counts_and_bad_tags_before_gmsh_reads
   };
   const std::string huge = scratch_file("huge.msh", replaced(square_msh(), "1 1 1 1\n3 10", "1 1 1 4000000000\n3 10"));
   EXPECT_EQ(msh_error_of(huge),
-            huge + ": line 30: a block of 4000000000 elements, but its section has 1 lines left (truncated or corrupt file?)");
+            huge + ": line 30: a block of 4000000000 elements, but its section has 1 line left (truncated or corrupt file?)");
   const std::string huge_nodes = scratch_file("huge_nodes.msh", replaced(square_msh(), "2 1 0 4\n", "2 1 0 4000000000\n"));
   EXPECT_EQ(msh_error_of(huge_nodes), huge_nodes +
                                           ": line 15: a block of 4000000000 nodes, but its section has 8 lines left "
@@ -147,6 +147,18 @@ TEST(read_msh, refuses_a_script_impossible_counts_and_bad_tags_before_gmsh_reads
   const std::string v22 = scratch_file("v22.msh",
                                        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n$EndNodes\n");
   EXPECT_EQ(msh_error_of(v22), v22 + ": line 5: $Nodes declares 3 nodes but holds 2 lines");
+  // A 2.2 file (gmsh's own older ASCII format) reads, one-node point elements and a file starting
+  // with $Comments included.
+  std::string v22_text = "$Comments\nmade by hand\n$EndComments\n$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+                         "$PhysicalNames\n2\n0 1 \"tip\"\n2 2 \"skin\"\n$EndPhysicalNames\n"
+                         "$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"
+                         "$Elements\n2\n1 15 2 1 1 1\n2 2 2 2 1 1 2 3\n$EndElements\n";
+  const std::string v22_good = scratch_file("v22_good.msh", v22_text);
+  EXPECT_EQ(msh_error_of(v22_good), "no error");
+  EXPECT_EQ(pipeline::read_msh(v22_good).groups.size(), 2u);
+  const std::string v22_negative =
+      scratch_file("v22_negative.msh", v22_text.replace(v22_text.find("1 15 2 1 1 1"), 12, "-1 15 2 1 1 1"));
+  EXPECT_EQ(msh_error_of(v22_negative), v22_negative + ": line 20: tag '-1' is not a positive integer");
   for (const std::string& path : {script, text, huge, huge_nodes, negative, word, extra, v22})
     EXPECT_EQ(msh_error_of(path).find('\n'), std::string::npos);
 }

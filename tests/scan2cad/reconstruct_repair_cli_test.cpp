@@ -199,7 +199,7 @@ TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   fs::remove(out);
   const CliRun wrong = run("repair --in " + in + " --kind head --unit m --edge 4 --out " + out);
   EXPECT_EQ(wrong.code, 2) << wrong.err;
-  EXPECT_NE(wrong.err.find(in + ": read in m (--unit) its largest extent is 11246.4 mm"), std::string::npos) << wrong.err;
+  EXPECT_NE(wrong.err.find(in + ": read in m (--unit), its largest extent is 11246.4 mm"), std::string::npos) << wrong.err;
   EXPECT_FALSE(fs::exists(out));
 }
 

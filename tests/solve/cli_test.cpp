@@ -81,6 +81,13 @@ TEST(solve_cli, a_file_size_limit_leaves_no_outputs) {
   const std::string err = c.read("err.txt");
   EXPECT_NE(err.find("solve: " + c.dir + "/limited/results.msh: written incompletely ("), std::string::npos) << err;
   EXPECT_TRUE(fs::is_empty(c.dir + "/limited")) << fs::directory_iterator(c.dir + "/limited")->path();
+  // Without the trap the kernel's SIGXFSZ killed the stage mid-write (exit 153, no message, its
+  // temporary file left); every stage now ignores it itself (pipeline::run_main).
+  ASSERT_EQ(c.sh("bash -c \"ulimit -f 30; exec " + std::string(BIN_DIR) + "/solve --model " + c.dir + "/block.msh --deck " +
+                 c.dir + "/deck.json --out-dir " + c.dir + "/limited_no_trap\""),
+            4)
+      << c.read("err.txt");
+  EXPECT_TRUE(fs::is_empty(c.dir + "/limited_no_trap")) << fs::directory_iterator(c.dir + "/limited_no_trap")->path();
   // A run restarted from the state in its own output folder keeps that state when its outputs
   // fail (state.bin is written last), and removes the earlier run's other outputs.
   ASSERT_EQ(c.solve("deck.json", "again"), 0) << c.read("err.txt");
