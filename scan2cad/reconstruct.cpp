@@ -492,17 +492,21 @@ pipeline::ScanReadOptions KindAndUnitOptions::read_options() const {
   read.expected_size_mm = expected_size_mm(kind());
   return read;
 }
+namespace {
+// The largest extent of what a scan holds [mm], its faces' vertices or its points.
+double scan_extent_mm(const pipeline::Scan& scan) {
+  return pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points);
+}
+}  // namespace
+
 std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const {
   return pipeline::describe_unit(scan.unit, pipeline::parse_unit(unit_name) == pipeline::Unit::automatic,
-                                 pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points),
-                                 kind_name, expected_size_mm(kind()));
+                                 scan_extent_mm(scan), kind_name, expected_size_mm(kind()));
 }
 
 void KindAndUnitOptions::require_plausible_size(const pipeline::Scan& scan, const std::string& path) const {
   if (pipeline::parse_unit(unit_name) != pipeline::Unit::automatic)
-    pipeline::require_forced_unit_plausible(path, scan.unit,
-                                            pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points),
-                                            kind_name, expected_size_mm(kind()));
+    pipeline::require_forced_unit_plausible(path, scan.unit, scan_extent_mm(scan), kind_name, expected_size_mm(kind()));
 }
 
 ReconstructMethod parse_reconstruct_method(const std::string& name, ScanKind kind) {

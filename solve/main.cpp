@@ -27,8 +27,7 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     // 1. Load and check the model.
     const solve::Model model = solve::load_model(msh, deck);
-    solve::require_inputs_apart_from_outputs(opt.out_dir, msh, deck,
-                                             opt.restart.empty() ? model.initial_state.file : opt.restart);
+    solve::require_inputs_apart_from_outputs(opt.out_dir, msh, deck, solve::starting_state_file(model, opt));
     // 2. Run; outputs are written atomically by run().
     const solve::RunSummary s = solve::run(model, opt);
     using pipeline::format_number;

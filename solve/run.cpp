@@ -82,6 +82,10 @@ void require_room_for_outputs(const Model& m, std::size_t elements, const std::s
 
 }  // namespace
 
+std::string starting_state_file(const Model& m, const RunOptions& opt) {
+  return !opt.restart.empty() ? opt.restart : m.initial_state.file;
+}
+
 void require_inputs_apart_from_outputs(const std::string& out_dir, const std::string& model_path,
                                        const std::string& deck_path, const std::string& started_from) {
   std::vector<std::string> outputs;
@@ -103,7 +107,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // 1. Initial state: command line restart wins over the deck's initial_state. Read before the
   // solver is set up, whose ties are matched where the run starts.
-  const std::string start_file = !opt.restart.empty() ? opt.restart : model.initial_state.file;
+  const std::string start_file = starting_state_file(model, opt);
   const SolverState start = start_file.empty() ? SolverState{} : load_state(start_file);
   Solver s(model, start_file.empty() ? nullptr : &start.x);
   const Model& m = s.model();
@@ -176,12 +180,11 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   // earlier run left in the same directory, so none of them can pass for its results (except the
   // state this run started from: it is the user's input); a sound run removes the diverged_*
   // files of an earlier failure.
-  const std::string started_from = !opt.restart.empty() ? opt.restart : m.initial_state.file;
   auto remove_outputs = [&] {
     if (frames.is_open()) frames.close();
     fs::remove(frames_path, ec);
     for (const char* f : sound_run_files)
-      if (started_from.empty() || !fs::equivalent(dir / f, started_from, ec)) fs::remove(dir / f, ec);
+      if (start_file.empty() || !fs::equivalent(dir / f, start_file, ec)) fs::remove(dir / f, ec);
   };
   auto fail = [&](const std::string& why) {
     remove_outputs();

@@ -30,6 +30,10 @@ struct RunSummary {
   double max_penetration = 0; ///< over the run [mm]
 };
 
+/// The state file a run starts from: `opt.restart` (--restart) wins over the deck's initial_state;
+/// "" = the mesh at rest.
+std::string starting_state_file(const Model& m, const RunOptions& opt);
+
 /// The files run() writes in out_dir: those of a sound run, and those of a diverged one.
 inline constexpr std::array<const char*, 4> sound_run_files = {"results.msh", "state.bin", "energy.csv", "forces.csv"};
 inline constexpr std::array<const char*, 2> diverged_run_files = {"diverged_state.bin", "diverged_energy.csv"};
