@@ -3,12 +3,75 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 
+#include <functional>
+#include <set>
+#include <vector>
+
 namespace pipeline {
+
+namespace {
+
+// nlohmann keeps the last of two equal keys in one object without a word, so a deck with a second
+// "end_time" further down would run with it and the first one read by the user would be ignored.
+// JSON (RFC 8259) leaves such a file's meaning open; we refuse it, naming the key by its path.
+class RepeatedKeyCheck {
+ public:
+  explicit RepeatedKeyCheck(const std::string& name) : name_(name) {}
+
+  bool operator()(int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        // an element of an array has no key of its own: it is named "<array>[]"
+        containers_.push_back({event == E::object_start, in_array() ? path_of("[]") : path_of(pending_key_), {}});
+        pending_key_.clear();
+        break;
+      case E::key: {
+        const std::string key = parsed.get<std::string>();
+        if (!containers_.back().keys.insert(key).second)
+          throw bad_input(name_, "key \"" + path_of(key) + "\" appears twice in one object");
+        pending_key_ = key;
+        break;
+      }
+      case E::object_end:
+      case E::array_end:
+        containers_.pop_back();
+        pending_key_.clear();
+        break;
+      case E::value:
+        pending_key_.clear();
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Container {
+    bool is_object;
+    std::string path;  // dotted keys from the top, e.g. "contacts[].friction"
+    std::set<std::string> keys;
+  };
+
+  bool in_array() const { return !containers_.empty() && !containers_.back().is_object; }
+  std::string path_of(const std::string& key) const {
+    const std::string parent = containers_.empty() ? "" : containers_.back().path;
+    if (key == "[]") return parent + key;
+    return parent.empty() ? key : parent + "." + key;
+  }
+
+  const std::string& name_;
+  std::vector<Container> containers_;
+  std::string pending_key_;
+};
+
+}  // namespace
 
 nlohmann::json parse_json(const std::string& text, const std::string& name) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw bad_input(name, "empty JSON file");
   try {
-    return nlohmann::json::parse(text);
+    RepeatedKeyCheck check(name);
+    return nlohmann::json::parse(text, std::ref(check));
   } catch (const nlohmann::json::exception& e) {
     throw bad_input(name, "not valid JSON: " + json_error_text(e));
   }

@@ -11,7 +11,8 @@ namespace pipeline {
 /// Parses `text`, which came from `name` (a file path or a description, used in the error).
 ///
 /// @throws Error(bad_input) "name: empty JSON file" or "name: not valid JSON: <where and why>"
-///         (nlohmann's message without its "[json.exception.parse_error.101]" tag)
+///         (nlohmann's message without its "[json.exception.parse_error.101]" tag), or
+///         "name: key "a.b" appears twice in one object" (nlohmann would keep the last silently)
 nlohmann::json parse_json(const std::string& text, const std::string& name);
 
 /// nlohmann's message without its "[json.exception.type_error.302] " tag, for a user's error line.
