@@ -171,7 +171,8 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
   std::ostringstream msg;
   msg << r.wedges << " wedges, min scaled Jacobian " << r.min_scaled_jacobian << ", " << r.reduced_columns
       << " columns thinned (min depth scale " << r.min_depth_scale << ")";
-  progress.finish(msg.str());
+  // step, not finish: the program has yet to write the model, and a failed write must not follow a "done"
+  progress.step("layered: " + msg.str());
   if (report) *report = r;
   return out;
 }

@@ -50,28 +50,29 @@ int main(int argc, char** argv) {
     layering::LayerReport rep;
     const layering::FeModel model =
         pipeline::naming_file(in, [&] { return layering::build_layers(surface, stacks, opt, &rep); });
-    // 4. Report text, then the model and the report, both or neither.
+    // 4. The model and the report, both or neither.
     nlohmann::json j = {{"wedges", rep.wedges}, {"shell_triangles", rep.shell_triangles}, {"nodes", rep.nodes},
                         {"min_scaled_jacobian", rep.min_scaled_jacobian}, {"min_volume_mm3", rep.min_volume},
                         {"reduced_columns", rep.reduced_columns}, {"min_depth_scale", rep.min_depth_scale},
                         {"intersecting_face_pairs", rep.intersecting_pairs}};
-    std::printf("layers: %s: %zu wedges, %zu shell triangles, %zu nodes, min scaled Jacobian %.3f\n", out.c_str(),
-                rep.wedges, rep.shell_triangles, rep.nodes, rep.min_scaled_jacobian);
-    for (const auto& v : rep.volumes) {
+    for (const auto& v : rep.volumes)
       j["volumes"].push_back({{"group", v.group}, {"wedges", v.wedges}, {"thickness_mm", v.thickness},
                               {"volume_mm3", v.volume}, {"skin_area_x_thickness_mm3", v.skin_area_volume},
                               {"mid_area_x_thickness_mm3", v.mid_area_volume},
                               {"full_depth_volume_mm3", v.full_depth_volume},
                               {"full_depth_mid_area_x_thickness_mm3", v.full_depth_mid_area_volume},
                               {"full_depth_area_fraction", v.full_depth_area_fraction}});
+    pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
+                                 {report_path, [&] { pipeline::write_text_atomic(report_path, j.dump(2) + "\n"); }}});
+    // 5. The summary, once both files are written (a failed write prints only its error).
+    std::printf("layers: %s: %zu wedges, %zu shell triangles, %zu nodes, min scaled Jacobian %.3f\n", out.c_str(),
+                rep.wedges, rep.shell_triangles, rep.nodes, rep.min_scaled_jacobian);
+    for (const auto& v : rep.volumes)
       std::printf("  %-22s %6zu wedges  volume %9.0f mm3  vs mid-area x t %+6.1f %%  vs skin-area x t %+6.1f %%"
                   "  full-depth part (%3.0f %% of area) vs mid-area x t %+6.1f %%\n",
                   v.group.c_str(), v.wedges, v.volume, 100 * (v.volume / v.mid_area_volume - 1),
                   100 * (v.volume / v.skin_area_volume - 1), 100 * v.full_depth_area_fraction,
                   100 * (v.full_depth_volume / std::max(v.full_depth_mid_area_volume, 1e-300) - 1));
-    }
-    pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
-                                 {report_path, [&] { pipeline::write_text_atomic(report_path, j.dump(2) + "\n"); }}});
     return 0;
   });
 }

@@ -81,11 +81,11 @@ void require_forced_unit_plausible(const std::string& path, Unit unit, double ex
                             " mm, but a " + object + " is about " + format_number(expected_mm) + " mm: is the unit right?");
 }
 
-void require_mm(const std::string& path, double extent_mm, const std::string& kind) {
+void require_mm(const std::string& path, double extent_mm, const std::string& kind, const std::string& object) {
   const double expected_mm = expected_extent_mm(kind);
   if (plausible_size(extent_mm, expected_mm)) return;
   std::ostringstream ss;
-  ss << "largest extent " << extent_mm << " mm, but a " << kind << " is about " << expected_mm
+  ss << "largest extent " << extent_mm << " mm, but " << (object.empty() ? "a " + kind : object) << " is about " << expected_mm
      << " mm: this stage reads mm only (align detects and converts the unit of a scan)";
   throw bad_input(path, ss.str());
 }

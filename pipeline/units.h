@@ -72,9 +72,11 @@ void require_forced_unit_plausible(const std::string& path, Unit unit, double ex
 ///
 /// @param[in] path       file the object was read from, for the message
 /// @param[in] extent_mm  largest bounding-box extent of what it holds, taken as mm
-/// @param[in] kind       "head" or "respirator"
+/// @param[in] kind       "head" or "respirator": the expected size
+/// @param[in] object     what the file holds, in the message (default: `kind`), e.g. straps, which
+///                       span a head and are sized like one
 /// @throws Error(bad_input) naming `path` when the size is implausible in mm.
-void require_mm(const std::string& path, double extent_mm, const std::string& kind);
+void require_mm(const std::string& path, double extent_mm, const std::string& kind, const std::string& object = "");
 
 /// Density bounds of the project's materials [g/mm³; units mm, ms, g, N, MPa]. A density given
 /// in g/cm³ (the paper's tables) or kg/m³ is 1e3 or 1e6 times too large, and a run with it is

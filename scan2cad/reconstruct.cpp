@@ -793,7 +793,8 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   st.vertices = mesh.number_of_vertices();
   st.faces = mesh.number_of_faces();
   clock.stop();
-  progress.finish(std::to_string(st.faces) + " triangles from " + std::to_string(st.points_used) + " points");
+  // step, not finish: the program has yet to write the mesh, and a failed write must not follow a "done"
+  progress.step("reconstructed: " + std::to_string(st.faces) + " triangles from " + std::to_string(st.points_used) + " points");
   if (stats_out) *stats_out = st;
   return mesh;
 }

@@ -153,7 +153,8 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   r.mean_edge_mm = mesh.number_of_edges() ? total / double(mesh.number_of_edges()) : 0;
   r.area_mm2 = PMP::area(mesh);
   r.volume_mm3 = r.closed ? PMP::volume(mesh) : 0;
-  progress.finish(std::to_string(r.output_faces) + " triangles, " + (r.closed ? "closed" : "open"));
+  // step, not finish: the program has yet to write the mesh, and a failed write must not follow a "done"
+  progress.step("repaired: " + std::to_string(r.output_faces) + " triangles, " + (r.closed ? "closed" : "open"));
   if (report_out) *report_out = r;
 
   if (kind == ScanKind::head && !r.closed)

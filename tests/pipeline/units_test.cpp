@@ -55,6 +55,10 @@ TEST(require_mm, rejects_a_head_in_m_cm_or_inches_and_names_the_file) {
     EXPECT_NE(message.find("a head is about 250 mm"), std::string::npos) << message;
   }
   EXPECT_THROW(pipeline::require_mm("r.msh", 28.57, "respirator"), pipeline::Error);
+  // straps are sized like the head they span, but are named as straps (assemble said "a head")
+  EXPECT_NE(bad_input_message([] { pipeline::require_mm("s.msh", 2.857, "head", "a head's strap set"); }, "s.msh")
+                .find("but a head's strap set is about 250 mm"),
+            std::string::npos);
   EXPECT_THROW(pipeline::expected_extent_mm("hat"), pipeline::Error);
 }
 
