@@ -173,6 +173,24 @@ bool read_ply_guarded(const std::string& path, Read&& read) {
   throw bad_input(path, "damaged PLY: it declares a list or element larger than memory can hold");
 }
 
+// What follows the last element a PLY's header declares. CGAL stops reading there, so a header
+// whose count was lowered (an edited file, a writer that counted wrong) lost the rest silently: a
+// 1,000-point scan declared as 500 was read as 500 points. Trailing white space (a final newline
+// after binary data) is harmless and allowed.
+void require_nothing_after_elements(std::istream& in, const std::string& path) {
+  if (in.bad()) return;
+  in.clear();
+  std::size_t extra = 0;
+  bool blank = true;
+  for (int c = in.get(); c != std::char_traits<char>::eof(); c = in.get()) {
+    ++extra;
+    blank = blank && std::isspace(c);
+  }
+  if (!blank)
+    throw bad_input(path, std::to_string(extra) + " bytes after the elements its header declares: "
+                          "a count in the header is too small (damaged or hand-edited file?)");
+}
+
 void read_ply(const std::string& path, Scan& scan) {
   if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
   std::ifstream in(path, std::ios::binary);
@@ -180,6 +198,7 @@ void read_ply(const std::string& path, Scan& scan) {
   std::vector<std::vector<std::size_t>> polys;
   if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, pts, polys); }))
     throw bad_input(path, why_text_unreadable(path, "PLY", "end_header"));
+  require_nothing_after_elements(in, path);
   if (!polys.empty()) {
     scan.is_mesh = true;
     scan.soup.points = std::move(pts);
@@ -360,6 +379,7 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
       std::vector<std::vector<std::size_t>> polygons;
       if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, points, polygons); }))
         throw bad_input(path, "unreadable or truncated PLY");
+      require_nothing_after_elements(in, path);
       check_face_indices(polygons, points.size(), path);
       if (!polygons.empty() && !PMP::is_polygon_soup_a_polygon_mesh(polygons))
         throw bad_input(path, "not a 2-manifold polygon mesh (" + std::to_string(polygons.size()) +

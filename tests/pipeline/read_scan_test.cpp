@@ -77,6 +77,38 @@ TEST(read_scan, truncated_binary_stl_and_ply_are_rejected) {
   EXPECT_EQ(error_kind_of(scratch_file("cut.ply", pbytes.substr(0, pbytes.size() / 2))), pipeline::ErrorKind::bad_input);
 }
 
+// A header count lowered below the data (hand-edited, or a writer that counted wrong): CGAL stops
+// after the declared elements, and a 1,000-point scan declared as 500 was read as 500 points with
+// exit 0. Binary and ASCII are refused, naming the file; a final newline after the data is not.
+TEST(read_scan, data_beyond_the_counts_of_the_header_is_refused) {
+  pipeline::PointCloud c;
+  for (int i = 0; i < 1000; ++i) c.points.emplace_back(i * 0.2, (i % 10) * 20.0, (i % 7) * 30.0);
+  const std::string ply = (scratch_dir() / "thousand.ply").string();
+  pipeline::write_point_cloud(ply, c);
+  const std::string bytes = file_text(ply);
+  ASSERT_NE(bytes.find("element vertex 1000\n"), std::string::npos);
+  std::string lowered = bytes;
+  lowered.replace(lowered.find("element vertex 1000\n"), 20, "element vertex 500\n");
+  const std::string low = scratch_file("lowered.ply", lowered);
+  const std::string message = bad_input_message([&] { pipeline::read_scan(low); });  // 500 points of 3 doubles
+  EXPECT_EQ(message.rfind(low + ": ", 0), 0u) << message;
+  EXPECT_EQ(message, low + ": 12000 bytes after the elements its header declares: a count in the header is too small "
+                     "(damaged or hand-edited file?)");
+  EXPECT_EQ(pipeline::read_scan(scratch_file("newline.ply", bytes + "\n")).cloud.points.size(), 1000u);
+
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string ascii = header + "0 0 0\n100 0 0\n0 100 0\n3 0 1 2\n";
+  const std::string extra_face = scratch_file("extra_face.ply", ascii + "3 2 1 0\n");
+  EXPECT_NE(bad_input_message([&] { pipeline::read_scan(extra_face); }).find("bytes after the elements"),
+            std::string::npos);
+  EXPECT_NE(bad_input_message([&] { pipeline::read_surface_mesh(extra_face); }).find("bytes after the elements"),
+            std::string::npos);
+  pipeline::ScanReadOptions mm;
+  mm.unit = pipeline::Unit::mm;
+  EXPECT_EQ(pipeline::read_scan(scratch_file("blank_tail.ply", ascii + "\n  \n"), mm).soup.polygons.size(), 1u);
+}
+
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
 // "X.PLY" failed after the work ("unknown point cloud format '.PLY'"), since the writer compared
 // the ending as written. Both formats round trip under an upper-case ending.
