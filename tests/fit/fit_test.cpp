@@ -7,6 +7,7 @@
 
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"
+#include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
@@ -57,6 +58,40 @@ TEST(remesh_parts, niosh_medium_fit_within_deviation_budget) {
     EXPECT_EQ(s.euler, 1);
     EXPECT_EQ(s.boundary_loops, 1);
   }
+}
+
+// segment leaves each part one connected piece. Labels scrambled face by face passed fit, and
+// surface_mesh then ran for over 11 minutes; one stray face of another part is refused alike.
+TEST(check_parts, a_part_in_more_than_one_piece_is_refused) {
+  pipeline::SurfaceMesh seg = segmented_medium();
+  EXPECT_NO_THROW(scan2cad::check_parts(seg, "head"));
+  auto part = seg.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  const auto message = [](const pipeline::SurfaceMesh& mesh) {
+    try {
+      scan2cad::check_parts(mesh, "head");
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // one forehead face (with a forehead face on each side) made chin: chin in two pieces
+  pipeline::SurfaceMesh island = seg;
+  auto island_part = island.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  for (auto f : island.faces()) {
+    bool inside = island_part[f] == 1;
+    for (auto h : CGAL::halfedges_around_face(island.halfedge(f), island))
+      inside = inside && island_part[island.face(island.opposite(h))] == 1;
+    if (inside) {
+      island_part[f] = 4;
+      break;
+    }
+  }
+  EXPECT_EQ(message(island),
+            "parts: part chin is in 2 separate pieces, but segment makes each part one connected piece "
+            "(labels scrambled or edited by hand?)");
+  for (auto f : seg.faces()) part[f] = int(std::size_t(f) % 5);
+  EXPECT_NE(message(seg).find("separate pieces"), std::string::npos) << message(seg);
 }
 
 TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
