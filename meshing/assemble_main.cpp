@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     pipeline::require_mm(resp, pipeline::largest_extent(r.nodes), "respirator");
     const auto s = layering::read_fe_model(straps);
     meshing::require_straps(s, straps);
-    pipeline::require_mm(straps, pipeline::largest_extent(s.nodes), "head", "a head's strap set");
+    pipeline::require_mm(straps, pipeline::largest_extent(s.nodes), "head", "head's strap set");
     const auto lm = meshing::read_landmarks(landmarks);
     const auto mat = pipeline::read_json(materials);
     pipeline::naming_file(materials, [&] {  // checked before the placement's work

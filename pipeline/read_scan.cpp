@@ -188,7 +188,7 @@ void require_nothing_after_elements(std::istream& in, const std::string& path) {
   }
   if (!blank)
     throw bad_input(path, std::to_string(extra) + " bytes after the elements its header declares: "
-                          "a count in the header is too small (damaged or hand-edited file?)");
+                          "a count in the header is too small, or data was appended (damaged or hand-edited file?)");
 }
 
 void read_ply(const std::string& path, Scan& scan) {

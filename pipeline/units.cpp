@@ -55,8 +55,23 @@ bool plausible_size(double size_mm, double expected_mm) {
 Unit detect_unit(double extent, double expected_mm, const std::string& what) {
   if (!(extent > 0) || !std::isfinite(extent))
     throw bad_input(what, "bounding box has no extent (" + format_number(extent) + ")");
-  for (Unit u : {Unit::mm, Unit::cm, Unit::m})
-    if (plausible_size(extent * mm_per_unit(u), expected_mm)) return u;
+  for (Unit u : {Unit::mm, Unit::cm, Unit::m}) {
+    const double size_mm = extent * mm_per_unit(u);
+    if (!plausible_size(size_mm, expected_mm)) continue;
+    // cm and inches are only 2.54 apart, so a head in inches (11.2 units) also reads as a head in
+    // cm, 112 mm across, and was taken as one. No adult head (or respirator) is under 0.6 of the
+    // expected size (150 mm; 78 mm), so a cm size that small is not guessed: the user is asked
+    // which it is. (In inches it is then 0.64-1.5 times the expected size, always plausible.)
+    const double inch_mm = extent * mm_per_unit(Unit::inch);
+    if (u == Unit::cm && size_mm < 0.6 * expected_mm) {
+      std::ostringstream ss;
+      ss << "cannot tell the length unit: largest extent " << extent << " is " << format_number(size_mm)
+         << " mm in cm, small for an object of about " << expected_mm << " mm, or " << format_number(inch_mm)
+         << " mm in inches: force one with --unit cm or --unit in";
+      throw bad_input(what, ss.str());
+    }
+    return u;
+  }
   std::ostringstream ss;
   ss << "cannot tell the length unit: largest extent " << extent << " is neither mm, cm nor m for an object of about "
      << expected_mm << " mm (force one with --unit)";
@@ -85,7 +100,7 @@ void require_mm(const std::string& path, double extent_mm, const std::string& ki
   const double expected_mm = expected_extent_mm(kind);
   if (plausible_size(extent_mm, expected_mm)) return;
   std::ostringstream ss;
-  ss << "largest extent " << extent_mm << " mm, but " << (object.empty() ? "a " + kind : object) << " is about " << expected_mm
+  ss << "largest extent " << extent_mm << " mm, but a " << (object.empty() ? kind : object) << " is about " << expected_mm
      << " mm: this stage reads mm only (align detects and converts the unit of a scan)";
   throw bad_input(path, ss.str());
 }

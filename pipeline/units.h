@@ -45,13 +45,14 @@ double mm_per_unit(Unit u);
 ///
 /// @param[in] what  file name for the error message
 /// @return mm, cm or m
-/// @throws Error(bad_input) when no unit gives a plausible size (e.g. a 3 km "head"), or
-///         extent is not positive and finite.
+/// @throws Error(bad_input) when no unit gives a plausible size (e.g. a 3 km "head"), when the
+///         size could be cm or inches (in cm under 0.6 of expected_mm, in inches plausible: a
+///         head in inches), or extent is not positive and finite.
 Unit detect_unit(double extent, double expected_mm, const std::string& what);
 
 /// One log line on the unit a file was read in and the size that gives, so that a wrong guess
-/// shows: "unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)".
-/// Detection cannot tell cm from inches (a factor 2.54) when both give a plausible size.
+/// shows: "unit cm (detected, --unit forces one): largest extent 285.7 mm (a head is about 250)".
+/// A size that could be cm or inches (a factor 2.54) is refused by detect_unit, not guessed.
 /// @param extent_mm  largest bounding-box extent after scaling [mm]
 /// @param object     what the file holds ("head", "respirator")
 std::string describe_unit(Unit unit, bool detected, double extent_mm, const std::string& object, double expected_mm);
@@ -73,8 +74,8 @@ void require_forced_unit_plausible(const std::string& path, Unit unit, double ex
 /// @param[in] path       file the object was read from, for the message
 /// @param[in] extent_mm  largest bounding-box extent of what it holds, taken as mm
 /// @param[in] kind       "head" or "respirator": the expected size
-/// @param[in] object     what the file holds, in the message (default: `kind`), e.g. straps, which
-///                       span a head and are sized like one
+/// @param[in] object     what the file holds, as a noun for "a <object>" in the message (default:
+///                       `kind`), e.g. "head's strap set": straps span a head and are sized like one
 /// @throws Error(bad_input) naming `path` when the size is implausible in mm.
 void require_mm(const std::string& path, double extent_mm, const std::string& kind, const std::string& object = "");
 

@@ -77,9 +77,9 @@ int main(int argc, char** argv) {
     kind_unit.require_plausible_size(scan, in);
     // 3. Meshes pass through as they are, in mm (repair handles soups); clouds are reconstructed
     if (scan.is_mesh) {
-      pipeline::log("reconstruct", in + ": is a mesh (" + std::to_string(scan.soup.polygons.size()) +
-                                       " faces), passed through unchanged but for the unit");
       pipeline::write_polygon_soup(out, scan.soup);
+      pipeline::log("reconstruct", in + ": is a mesh (" + std::to_string(scan.soup.polygons.size()) +
+                                       " faces), passed through unchanged but for the unit → " + out);
       return 0;
     }
     scan2cad::ReconstructStats st;

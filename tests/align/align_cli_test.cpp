@@ -67,9 +67,10 @@ TEST(align_cli, aligns_the_niosh_medium_headform) {
   EXPECT_NE(json.find("\"matrix\""), std::string::npos);
 }
 
-// A head in inches: the size alone reads it as cm (a 112 mm head, 2.54x too small but within the
-// detection window), on which align finds no forehead-chin profile (exit 3), and the log says
-// which unit it took; --unit in reads it right. An unknown unit is a usage error.
+// A head in inches: the size alone could be cm (a 112 mm head, 2.54x too small but within the
+// detection window), which was taken, and align then found no forehead-chin profile (exit 3).
+// Now it is refused with both readings (exit 2); --unit in reads it right. An unknown unit is a
+// usage error.
 TEST(align_cli, unit_option_forces_the_unit_the_size_cannot_tell) {
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -78,10 +79,9 @@ TEST(align_cli, unit_option_forces_the_unit_the_size_cannot_tell) {
                               "/headforms/NIOSH_medium_20k.stl'); meshio.write('" + inches +
                               "', meshio.Mesh(m.points / 25.4, m.cells), binary=False)\" 2>/dev/null";
   ASSERT_EQ(std::system(convert.c_str()), 0);
-  EXPECT_EQ(run("--in " + inches + outs()), 3) << err();
-  EXPECT_NE(err().find(inches + ": unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)"),
-            std::string::npos)
-      << err();
+  EXPECT_EQ(run("--in " + inches + outs()), 2) << err();
+  EXPECT_NE(err().find(inches + ": cannot tell the length unit: largest extent 11.24"), std::string::npos) << err();
+  EXPECT_NE(err().find(" mm in cm, small for an object of about 250 mm, or 285."), std::string::npos) << err();
   ASSERT_EQ(run("--in " + inches + " --unit in" + outs()), 0) << err();
   EXPECT_EQ(pipeline::read_json((dir / "a.json").string()).at("unit_scale_to_mm").get<double>(), 25.4);
   EXPECT_EQ(run("--in " + inches + " --unit m" + outs()), 2);  // ~11 m: no head

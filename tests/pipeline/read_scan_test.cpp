@@ -92,8 +92,8 @@ TEST(read_scan, data_beyond_the_counts_of_the_header_is_refused) {
   const std::string low = scratch_file("lowered.ply", lowered);
   const std::string message = bad_input_message([&] { pipeline::read_scan(low); });  // 500 points of 3 doubles
   EXPECT_EQ(message.rfind(low + ": ", 0), 0u) << message;
-  EXPECT_EQ(message, low + ": 12000 bytes after the elements its header declares: a count in the header is too small "
-                     "(damaged or hand-edited file?)");
+  EXPECT_EQ(message, low + ": 12000 bytes after the elements its header declares: a count in the header is too small, or "
+                     "data was appended (damaged or hand-edited file?)");
   EXPECT_EQ(pipeline::read_scan(scratch_file("newline.ply", bytes + "\n")).cloud.points.size(), 1000u);
 
   const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"

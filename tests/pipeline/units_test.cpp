@@ -22,6 +22,19 @@ TEST(detect_unit, recognises_a_head_in_mm_cm_and_m) {
   EXPECT_EQ(pipeline::detect_unit(120, 130, "r"), Unit::mm);
 }
 
+// cm and inches are 2.54 apart: NIOSH medium in inches (11.25) is a plausible 112.5 mm "head" in
+// cm and was taken as one. A cm size under 0.6 of the expected one, where inches give a plausible
+// size, is now refused with both readings; a real head or respirator in cm still reads as cm.
+TEST(detect_unit, a_size_that_may_be_cm_or_inches_is_refused_not_guessed) {
+  const std::string head_in_inches = bad_input_message([] { pipeline::detect_unit(285.7 / 25.4, 250, "h.ply"); }, "h.ply");
+  EXPECT_EQ(head_in_inches, "cannot tell the length unit: largest extent 11.248 is 112.48 mm in cm, small for an object "
+                            "of about 250 mm, or 285.7 mm in inches: force one with --unit cm or --unit in");
+  EXPECT_THROW(pipeline::detect_unit(5.0, 130, "r.ply"), pipeline::Error);  // a respirator: 50 mm or 127 mm
+  EXPECT_EQ(pipeline::detect_unit(15.1, 250, "h"), Unit::cm);   // 151 mm: a small head's face-only scan
+  EXPECT_EQ(pipeline::detect_unit(9.0, 130, "r"), Unit::cm);    // a small respirator, 90 mm
+  EXPECT_EQ(pipeline::detect_unit(21.0, 250, "h"), Unit::cm);   // in inches 533 mm, also plausible: cm is nearer
+}
+
 TEST(detect_unit, rejects_sizes_no_unit_explains) {
   EXPECT_THROW(pipeline::detect_unit(2.0e6, 250, "h"), pipeline::Error);
   EXPECT_THROW(pipeline::detect_unit(1.0e-5, 250, "h"), pipeline::Error);
@@ -56,7 +69,7 @@ TEST(require_mm, rejects_a_head_in_m_cm_or_inches_and_names_the_file) {
   }
   EXPECT_THROW(pipeline::require_mm("r.msh", 28.57, "respirator"), pipeline::Error);
   // straps are sized like the head they span, but are named as straps (assemble said "a head")
-  EXPECT_NE(bad_input_message([] { pipeline::require_mm("s.msh", 2.857, "head", "a head's strap set"); }, "s.msh")
+  EXPECT_NE(bad_input_message([] { pipeline::require_mm("s.msh", 2.857, "head", "head's strap set"); }, "s.msh")
                 .find("but a head's strap set is about 250 mm"),
             std::string::npos);
   EXPECT_THROW(pipeline::expected_extent_mm("hat"), pipeline::Error);

@@ -177,8 +177,9 @@ TEST(reconstruct_cli, a_scan_in_metres_comes_out_in_mm) {
   EXPECT_NE(r.err.find(in + ": unit m (detected, --unit forces one): largest extent 285."), std::string::npos) << r.err;
 }
 
-// A head in inches is read as cm, 2.54 times too small: both sizes are plausible. The log line
-// says which unit was taken and the size it gives, and --unit in reads it right.
+// A head in inches was read as cm, 2.54 times too small: both sizes lie in the detection window.
+// Now it is refused, naming both readings; --unit in reads it right, and the log line says which
+// unit was taken and the size it gives.
 TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   const std::string in = (dir / "niosh_in.ply").string();
   {
@@ -188,10 +189,10 @@ TEST(repair_cli, the_unit_taken_and_the_size_it_gives_are_logged) {
   }
   const std::string out = (dir / "niosh_in_rep.ply").string();
   const CliRun guessed = run("repair --in " + in + " --kind head --edge 4 --out " + out);
-  ASSERT_EQ(guessed.code, 0) << guessed.err;
-  EXPECT_NE(guessed.err.find(in + ": unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)"),
-            std::string::npos)
-      << guessed.err;
+  EXPECT_EQ(guessed.code, 2) << guessed.err;
+  EXPECT_NE(guessed.err.find(in + ": cannot tell the length unit: largest extent 11.24"), std::string::npos) << guessed.err;
+  EXPECT_NE(guessed.err.find("force one with --unit cm or --unit in"), std::string::npos) << guessed.err;
+  EXPECT_FALSE(fs::exists(out));
   const CliRun forced = run("repair --in " + in + " --kind head --unit in --edge 4 --out " + out);
   ASSERT_EQ(forced.code, 0) << forced.err;
   EXPECT_NE(forced.err.find(in + ": unit in (forced): largest extent 285.7 mm"), std::string::npos) << forced.err;
