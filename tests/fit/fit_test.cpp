@@ -7,10 +7,10 @@
 
 #include "layering/internal/segment_landmarks.h"
 #include "layering/segment.h"
-#include "pipeline/error.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/fit.h"
+#include "../bad_input_message.h"
 #include "../niosh_medium_ply.h"
 #include "../last_line.h"
 #include "../run_command.h"
@@ -67,13 +67,7 @@ TEST(check_parts, a_part_in_more_than_one_piece_is_refused) {
   EXPECT_NO_THROW(scan2cad::check_parts(seg, "head"));
   auto part = seg.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
   const auto message = [](const pipeline::SurfaceMesh& mesh) {
-    try {
-      scan2cad::check_parts(mesh, "head");
-    } catch (const pipeline::Error& e) {
-      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
-      return std::string(e.what());
-    }
-    return std::string();
+    return bad_input_message([&] { scan2cad::check_parts(mesh, "head"); });
   };
   // one forehead face (with a forehead face on each side) made chin: chin in two pieces
   pipeline::SurfaceMesh island = seg;
