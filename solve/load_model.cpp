@@ -109,6 +109,14 @@ Curve curve_of(const Deck& d, const json& o, const std::string& where) {
   }
   return c;
 }
+// Every key a deck object may hold, or one starting with "_" (a comment). The optional keys have
+// defaults, so a misspelt one ("frction": 0.3) was read as absent and the run used friction 0.
+void require_known_keys(const Deck& d, const json& o, const std::string& where, const std::set<std::string>& keys) {
+  if (!o.is_object()) throw d.bad(where + ": expected an object");
+  for (const auto& item : o.items())
+    if (!keys.count(item.key()) && item.key().rfind("_", 0) != 0)
+      throw d.bad((where.empty() ? "" : where + ".") + item.key() + ": unknown key");
+}
 const json& array_of(const Deck& d, const std::string& key) {
   static const json empty = json::array();
   if (!d.j.contains(key)) return empty;
@@ -180,7 +188,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   m.materials.clear();
   for (const auto& [name, o] : j["materials"].items()) {
     const std::string w = "materials." + name;
-    if (!o.is_object()) throw d.bad(w + ": expected an object");
+    require_known_keys(d, o, w, {"density", "E", "nu", "rigid"});
     Material mat;
     mat.name = name;
     mat.density = num(d, o, "density", w, 0, true);
@@ -195,6 +203,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   for (const auto& o : array_of(d, "parts")) {
     const std::string g = str(d, o, "group", "parts[]");
     const std::string w = "parts[" + g + "]";
+    require_known_keys(d, o, w, {"group", "material", "thickness"});
     if (!used.insert(g).second) throw d.bad(w + ": group appears in two parts");
     auto mi = std::find_if(m.materials.begin(), m.materials.end(),
                            [&](const Material& x) { return x.name == str(d, o, "material", w); });
@@ -216,6 +225,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   m.bcs.clear();
   for (const auto& o : array_of(d, "fixed")) {
     const std::string g = str(d, o, "group", "fixed[]");
+    require_known_keys(d, o, "fixed[" + g + "]", {"group", "dofs"});
     const std::string dofs = o.contains("dofs") ? str(d, o, "dofs", "fixed[" + g + "]") : "xyz";
     // "" fixed nothing without a word, "xxx" fixed x three times
     if (dofs.empty() || std::set<char>(dofs.begin(), dofs.end()).size() != dofs.size())
@@ -225,6 +235,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   for (const auto& o : array_of(d, "prescribed")) {
     const std::string g = str(d, o, "group", "prescribed[]");
     const std::string w = "prescribed[" + g + "]";
+    require_known_keys(d, o, w, {"group", "type", "dof", "curve"});
     const std::string type = str(d, o, "type", w);
     if (type != "velocity" && type != "displacement") throw d.bad(w + ".type: expected \"velocity\" or \"displacement\"");
     m.bcs.push_back({g, dof_of(d, str(d, o, "dof", w), w), type == "velocity" ? BcKind::velocity : BcKind::displacement,
@@ -233,12 +244,14 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   m.loads.clear();
   for (const auto& o : array_of(d, "loads")) {
     const std::string g = str(d, o, "group", "loads[]");
+    require_known_keys(d, o, "loads[" + g + "]", {"group", "dof", "curve"});
     m.loads.push_back({g, dof_of(d, str(d, o, "dof", "loads[" + g + "]"), "loads[" + g + "]"), curve_of(d, o, "loads[" + g + "]")});
   }
   m.initial_velocities.clear();
   for (const auto& o : array_of(d, "initial_velocity")) {
     InitialVelocity iv;
     iv.group = str(d, o, "group", "initial_velocity[]");
+    require_known_keys(d, o, "initial_velocity[" + iv.group + "]", {"group", "velocity"});
     if (!o.contains("velocity") || !o["velocity"].is_array() || o["velocity"].size() != 3)
       throw d.bad("initial_velocity[" + iv.group + "]: 'velocity' must be [vx, vy, vz]");
     for (int k = 0; k < 3; ++k) iv.v[k] = o["velocity"][k].get<double>();
@@ -250,6 +263,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
     t.group_a = str(d, o, "group_a", "ties[]");
     t.group_b = str(d, o, "group_b", "ties[]");
     t.name = o.contains("name") ? str(d, o, "name", "ties[]") : t.group_a + "-" + t.group_b;
+    require_known_keys(d, o, "ties[" + t.name + "]", {"group_a", "group_b", "name", "tolerance"});
     t.tolerance = num(d, o, "tolerance", "ties[" + t.name + "]", 0.01, false);
     m.ties.push_back(t);
   }
@@ -260,6 +274,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
     c.master = str(d, o, "master", "contact[]");
     c.name = o.contains("name") ? str(d, o, "name", "contact[]") : c.slave + "_on_" + c.master;
     const std::string w = "contact[" + c.name + "]";
+    require_known_keys(d, o, w, {"slave", "master", "name", "penalty_scale", "damping_ratio", "friction", "two_sided"});
     c.penalty_scale = num(d, o, "penalty_scale", w, 0.1, false);
     c.damping_ratio = num(d, o, "damping_ratio", w, 0.0, false);
     c.friction = num(d, o, "friction", w, 0.0, false);
@@ -268,6 +283,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   }
   if (j.contains("initial_state")) {
     const json& o = j["initial_state"];
+    require_known_keys(d, o, "initial_state", {"file", "reset_time", "reset_velocity"});
     m.initial_state.file = str(d, o, "file", "initial_state");
     if (m.initial_state.file.empty()) throw d.bad("initial_state.file: empty (leave initial_state out to start at rest)");
     m.initial_state.reset_time = flag(d, o, "reset_time", "initial_state", false);
@@ -289,13 +305,12 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   k.history_interval = num(d, c, "history_interval", "control", 0, false);
   k.energy_tolerance = num(d, c, "energy_tolerance", "control", 0.05, false);
   k.penetration_tolerance = num(d, c, "penetration_tolerance", "control", 1.0, false);
-  static const std::set<std::string> control_keys = {
-      "end_time", "damping_alpha", "dt_scale", "dt_target", "dt_update_interval", "hourglass",
-      "output_interval", "history_interval", "energy_tolerance", "penetration_tolerance"};
-  for (const auto& [key, val] : c.items())
-    if (!control_keys.count(key) && key.rfind("_", 0) != 0) throw d.bad("control." + key + ": unknown key");
+  require_known_keys(d, c, "control",
+                     {"end_time", "damping_alpha", "dt_scale", "dt_target", "dt_update_interval", "hourglass",
+                      "output_interval", "history_interval", "energy_tolerance", "penetration_tolerance"});
   if (j.contains("output")) {
     const json& o = j["output"];
+    require_known_keys(d, o, "output", {"node_data", "history_groups"});
     if (o.contains("node_data")) m.output.node_data = o["node_data"].get<std::vector<std::string>>();
     if (o.contains("history_groups")) m.output.history_groups = o["history_groups"].get<std::vector<std::string>>();
   }
