@@ -85,4 +85,11 @@ std::string json_error_text(const nlohmann::json::exception& e) {
 
 nlohmann::json read_json(const std::string& path) { return parse_json(read_text(path), path); }
 
+std::string first_unknown_key(const nlohmann::json& object, const std::set<std::string>& known) {
+  if (!object.is_object()) return "";
+  for (const auto& item : object.items())
+    if (!known.count(item.key()) && item.key().rfind("_", 0) != 0) return item.key();
+  return "";
+}
+
 }  // namespace pipeline

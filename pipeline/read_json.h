@@ -2,6 +2,7 @@
 /// JSON inputs (decks, landmarks, materials, parameters): every stage reads them through these,
 /// so a missing, empty or malformed file gives one bad-input line naming it, never an internal
 /// error with nlohmann's exception tag.
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -20,5 +21,10 @@ std::string json_error_text(const nlohmann::json::exception& e);
 
 /// Reads and parses the JSON file at `path`. @throws Error(bad_input) as read_text and parse_json.
 nlohmann::json read_json(const std::string& path);
+
+/// The first key of `object` that is not in `known` and does not start with "_" (a comment), or ""
+/// when there is none (or `object` is not an object). For inputs whose optional keys have
+/// defaults: a misspelt one ("frction") would otherwise be read as absent, without a word.
+std::string first_unknown_key(const nlohmann::json& object, const std::set<std::string>& known);
 
 }  // namespace pipeline

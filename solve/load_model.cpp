@@ -113,9 +113,8 @@ Curve curve_of(const Deck& d, const json& o, const std::string& where) {
 // defaults, so a misspelt one ("frction": 0.3) was read as absent and the run used friction 0.
 void require_known_keys(const Deck& d, const json& o, const std::string& where, const std::set<std::string>& keys) {
   if (!o.is_object()) throw d.bad(where + ": expected an object");
-  for (const auto& item : o.items())
-    if (!keys.count(item.key()) && item.key().rfind("_", 0) != 0)
-      throw d.bad((where.empty() ? "" : where + ".") + item.key() + ": unknown key");
+  if (const std::string key = pipeline::first_unknown_key(o, keys); !key.empty())
+    throw d.bad(where + "." + key + ": unknown key");
 }
 const json& array_of(const Deck& d, const std::string& key) {
   static const json empty = json::array();
@@ -314,10 +313,11 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
     if (o.contains("node_data")) m.output.node_data = o["node_data"].get<std::vector<std::string>>();
     if (o.contains("history_groups")) m.output.history_groups = o["history_groups"].get<std::vector<std::string>>();
   }
-  for (const auto& [key, val] : j.items())
-    if (std::string(" materials parts fixed prescribed loads initial_velocity ties contact initial_state control output ")
-            .find(" " + key + " ") == std::string::npos && key.rfind("_", 0) != 0)
-      throw d.bad("unknown top-level key '" + key + "'");
+  if (const std::string key = pipeline::first_unknown_key(j, {"materials", "parts", "fixed", "prescribed", "loads",
+                                                               "initial_velocity", "ties", "contact", "initial_state",
+                                                               "control", "output"});
+      !key.empty())
+    throw d.bad("unknown top-level key '" + key + "'");
   check_model(m);
 }
 

@@ -8,6 +8,7 @@
 #include "meshing/assemble.h"
 #include "meshing/internal/assemble_geometry.h"
 #include "pipeline/error.h"
+#include "pipeline/read_json.h"
 #include "pipeline/units.h"
 
 namespace meshing {
@@ -53,11 +54,19 @@ nlohmann::json deck_materials(const nlohmann::json& mat) {
   using nlohmann::json;
   if (!mat.is_object() || !mat.contains("materials") || !mat["materials"].is_object())
     throw pipeline::bad_input("materials", "expected an object of materials");
+  // Keys with defaults ("rigid", "contact", "damping"): a misspelt one ("rigd": true) was read as
+  // absent, and the bone went into the decks as soft tissue.
+  if (const std::string key = pipeline::first_unknown_key(
+          mat, {"materials", "head_layers_mm", "respirator_layers_mm", "contact", "damping"});
+      !key.empty())
+    throw pipeline::bad_input(key, "unknown key");
   json out = json::object();
   for (auto& [k, v] : mat["materials"].items()) {
     if (k[0] == '_') continue;
     const std::string w = "materials." + k;
     if (!v.is_object()) throw pipeline::bad_input(w, "expected an object");
+    if (const std::string key = pipeline::first_unknown_key(v, {"density", "E", "nu", "rigid"}); !key.empty())
+      throw pipeline::bad_input(w + "." + key, "unknown key");
     auto number = [&](const char* field) {
       if (!v.contains(field) || !v[field].is_number()) throw pipeline::bad_input(w + "." + field, "expected a number");
       return v[field].get<double>();
@@ -82,6 +91,9 @@ double optional_setting(const nlohmann::json& mat, const char* section, const ch
   if (!mat.contains(section)) return fallback;
   const auto& s = mat[section];
   if (!s.is_object()) throw pipeline::bad_input(section, "expected an object");
+  // each section holds one setting ("penalty_scale": 0.1, misspelt, had given the default)
+  if (const std::string other = pipeline::first_unknown_key(s, {key}); !other.empty())
+    throw pipeline::bad_input(std::string(section) + "." + other, "unknown key");
   if (!s.contains(key)) return fallback;
   const auto& v = s[key];
   if (!v.is_number() || !valid(v.get<double>()))

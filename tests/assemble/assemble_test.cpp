@@ -419,6 +419,15 @@ TEST(deck_materials, copies_the_materials_and_names_a_bad_entry) {
   EXPECT_EQ(message_of("E", -1), "materials.skin: E must be > 0 and finite [MPa]");
   EXPECT_EQ(message_of("rigid", "yes"), "materials.skin.rigid: expected true or false");
   EXPECT_EQ(message_of("density", 1200).rfind("materials.skin: density 1200 g/mm³ is outside", 0), 0u);
+  // A misspelt optional key was read as absent: "rigd": true put a soft bone into the decks. The
+  // file's own "_density_note" of strap is a comment.
+  EXPECT_EQ(message_of("rigd", true), "materials.skin.rigd: unknown key");
+  nlohmann::json misspelt = good;
+  misspelt["dampng"] = misspelt["damping"];
+  EXPECT_EQ(bad_input_message([&] { meshing::deck_materials(misspelt); }), "dampng: unknown key");
+  misspelt = good;
+  misspelt["contact"]["penalty_scal"] = 0.3;
+  EXPECT_EQ(bad_input_message([&] { meshing::contact_penalty_scale(misspelt); }), "contact.penalty_scal: unknown key");
 }
 
 // A surface.msh (no layers) or an assembled model given as the head or the respirator went through
