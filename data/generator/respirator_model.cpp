@@ -19,6 +19,11 @@ RespiratorParams read_respirator_params(const std::string& path, const std::stri
     throw pipeline::bad_input(path, "unknown respirator id '" + id + "', known:" + known);
   }
   const auto& r = j["respirators"][id];
+  // wall, clearance and nose_drop have defaults: a misspelt one ("wal": 2) was read as absent
+  if (const std::string key =
+          pipeline::first_unknown_key(r, {"width", "height", "depth", "wall", "clearance", "nose_drop"});
+      !key.empty())
+    throw pipeline::bad_input(path, "respirator '" + id + "': unknown key \"" + key + "\"");
   RespiratorParams p;
   struct F { const char* name; double* v; double lo, hi; bool required; };
   for (const F& f : {F{"width", &p.width, 80, 180, true}, F{"height", &p.height, 80, 170, true},

@@ -80,6 +80,18 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
             std::string::npos)
       << file_text(tmp + "/stderr.txt");
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
+  // A cup's optional dimension misspelt ("wal") was read as absent: the default wall, exit 0.
+  const std::string respirators = std::string(SOURCE_DIR) + "/data/generator/respirators.json";
+  std::string cups = file_text(respirators);
+  const std::size_t wall = cups.find("\"wall\"", cups.find("\"onesize\""));
+  ASSERT_NE(wall, std::string::npos);
+  cups.replace(wall, 6, "\"wal\"");
+  std::ofstream(tmp + "/misspelt.json") << cups;
+  EXPECT_EQ(run("--kind respirator --id onesize --params " + tmp + "/misspelt.json --out " + tmp + "/x.ply"), 2);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("misspelt.json: respirator 'onesize': unknown key \"wal\""),
+            std::string::npos)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
 }
 
 // data/generator/render_views.py, with which the generated heads and cups were looked at: the NIOSH
