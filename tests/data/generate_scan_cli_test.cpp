@@ -71,27 +71,28 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   EXPECT_EQ(run("--kind respirator --id onesize --params " + headforms + " --out " + tmp + "/x.ply"), 2);
   EXPECT_NE(file_text(tmp + "/stderr.txt").find(headforms + ": no \"respirators\" object"), std::string::npos)
       << file_text(tmp + "/stderr.txt");
+  // An edited parameter file `text`, saved as `name`, for `model` (e.g. "--kind head --id medium"):
+  // exit 2, stderr holds `expected`, no output.
+  const auto expect_refused = [&](const std::string& text, const std::string& name, const std::string& model,
+                                  const std::string& expected) {
+    std::ofstream(tmp + "/" + name) << text;
+    EXPECT_EQ(run(model + " --params " + tmp + "/" + name + " --out " + tmp + "/x.ply"), 2);
+    EXPECT_NE(file_text(tmp + "/stderr.txt").find(name + ": " + expected), std::string::npos)
+        << file_text(tmp + "/stderr.txt");
+    EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
+  };
   // A dimension in metres is out of range and shown as written (was 0.120600).
   std::string text = file_text(headforms);
   text.replace(text.find("\"face_length\": 120.6"), 20, "\"face_length\": 0.1206");
-  std::ofstream(tmp + "/metres.json") << text;
-  EXPECT_EQ(run("--kind head --id medium --params " + tmp + "/metres.json --out " + tmp + "/x.ply"), 2);
-  EXPECT_NE(file_text(tmp + "/stderr.txt").find("metres.json: headform 'medium': face_length = 0.1206 mm, expected 80..170"),
-            std::string::npos)
-      << file_text(tmp + "/stderr.txt");
-  EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
+  expect_refused(text, "metres.json", "--kind head --id medium",
+                 "headform 'medium': face_length = 0.1206 mm, expected 80..170");
   // A cup's optional dimension misspelt ("wal") was read as absent: the default wall, exit 0.
-  const std::string respirators = std::string(SOURCE_DIR) + "/data/generator/respirators.json";
-  std::string cups = file_text(respirators);
+  std::string cups = file_text(std::string(SOURCE_DIR) + "/data/generator/respirators.json");
   const std::size_t wall = cups.find("\"wall\"", cups.find("\"onesize\""));
   ASSERT_NE(wall, std::string::npos);
   cups.replace(wall, 6, "\"wal\"");
-  std::ofstream(tmp + "/misspelt.json") << cups;
-  EXPECT_EQ(run("--kind respirator --id onesize --params " + tmp + "/misspelt.json --out " + tmp + "/x.ply"), 2);
-  EXPECT_NE(file_text(tmp + "/stderr.txt").find("misspelt.json: respirator 'onesize': unknown key \"wal\""),
-            std::string::npos)
-      << file_text(tmp + "/stderr.txt");
-  EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
+  expect_refused(cups, "misspelt.json", "--kind respirator --id onesize",
+                 "respirator 'onesize': unknown key \"wal\"");
 }
 
 // data/generator/render_views.py, with which the generated heads and cups were looked at: the NIOSH
