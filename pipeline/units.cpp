@@ -62,8 +62,8 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
     // cm, 112 mm across, and was taken as one. No adult head (or respirator) is under 0.6 of the
     // expected size (150 mm; 78 mm), so a cm size that small is not guessed: the user is asked
     // which it is. (In inches it is then 0.64-1.5 times the expected size, always plausible.)
-    const double inch_mm = extent * mm_per_unit(Unit::inch);
     if (u == Unit::cm && size_mm < 0.6 * expected_mm) {
+      const double inch_mm = extent * mm_per_unit(Unit::inch);
       std::ostringstream ss;
       ss << "cannot tell the length unit: largest extent " << extent << " is " << format_number(size_mm)
          << " mm in cm, small for an object of about " << expected_mm << " mm, or " << format_number(inch_mm)

@@ -3,6 +3,7 @@
 /// scaled once, when it is read.
 #include <algorithm>
 #include <limits>
+#include <set>
 #include <string>
 
 namespace pipeline {
@@ -89,5 +90,9 @@ inline constexpr double max_density_g_mm3 = 0.1;   // 100 g/cm³, four times osm
 /// and finite [MPa], nu in [0, 0.5). Shared by assemble (data/materials.json) and solve (its
 /// deck), so a unit slip stops at the first stage that reads it.
 std::string why_material_unusable(double density_g_mm3, double E_MPa, double nu);
+
+/// The keys a material object holds, in data/materials.json and in a solve deck (assemble copies
+/// one into the other); any other key is refused by both readers.
+inline const std::set<std::string> material_keys = {"density", "E", "nu", "rigid"};
 
 }  // namespace pipeline

@@ -12,6 +12,7 @@
 #include "pipeline/error.h"
 #include "pipeline/read_json.h"
 #include "pipeline/read_msh.h"
+#include "pipeline/units.h"
 
 namespace solve {
 namespace {
@@ -187,7 +188,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   m.materials.clear();
   for (const auto& [name, o] : j["materials"].items()) {
     const std::string w = "materials." + name;
-    require_known_keys(d, o, w, {"density", "E", "nu", "rigid"});
+    require_known_keys(d, o, w, pipeline::material_keys);
     Material mat;
     mat.name = name;
     mat.density = num(d, o, "density", w, 0, true);

@@ -65,7 +65,7 @@ nlohmann::json deck_materials(const nlohmann::json& mat) {
     if (k[0] == '_') continue;
     const std::string w = "materials." + k;
     if (!v.is_object()) throw pipeline::bad_input(w, "expected an object");
-    if (const std::string key = pipeline::first_unknown_key(v, {"density", "E", "nu", "rigid"}); !key.empty())
+    if (const std::string key = pipeline::first_unknown_key(v, pipeline::material_keys); !key.empty())
       throw pipeline::bad_input(w + "." + key, "unknown key");
     auto number = [&](const char* field) {
       if (!v.contains(field) || !v[field].is_number()) throw pipeline::bad_input(w + "." + field, "expected a number");
