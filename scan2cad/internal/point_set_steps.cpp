@@ -5,6 +5,7 @@
 #include <CGAL/compute_average_spacing.h>
 #include <CGAL/jet_estimate_normals.h>
 #include <CGAL/jet_smooth_point_set.h>
+#include <CGAL/linear_least_squares_fitting_3.h>
 #include <CGAL/property_map.h>
 #include <CGAL/remove_outliers.h>
 
@@ -126,6 +127,25 @@ double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, un
     along += scale > 0 && std::abs(jet * pn[i].second) >= std::cos(M_PI / 4) * scale;
   }
   return double(along) / double(tested);
+}
+
+double share_of_points_on_a_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples,
+                                    double min_quality) {
+  if (pn.empty() || samples == 0) return 1.0;
+  const std::size_t stride = (pn.size() + samples - 1) / samples;  // at most `samples` points
+  const PointNeighborQuery query(pn, PointWithNormalPointMap());
+  std::size_t tested = 0, on_surface = 0;
+  std::vector<pipeline::Point> neighbours;
+  for (std::size_t i = 0; i < pn.size(); i += stride, ++tested) {
+    neighbours.clear();
+    query.get_points(pn[i].first, k, 0.0, std::back_inserter(neighbours));
+    pipeline::Kernel::Plane_3 plane;
+    pipeline::Point centroid;
+    const double quality = CGAL::linear_least_squares_fitting_3(neighbours.begin(), neighbours.end(), plane, centroid,
+                                                                CGAL::Dimension_tag<0>());
+    on_surface += quality >= min_quality;
+  }
+  return double(on_surface) / double(tested);
 }
 
 double spike_move_limit_mm(std::vector<double> moves_mm) {

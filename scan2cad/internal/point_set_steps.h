@@ -60,6 +60,13 @@ void jet_normals(std::vector<PointWithNormal>& pn, unsigned k);
 /// surface nearly everywhere; normals all (0, 0, 1) do on ~30 % of a head.
 double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples);
 
+/// Not a CGAL step: the share of up to `samples` evenly spread points whose k nearest points fit a
+/// plane with a quality of at least `min_quality`, the quality CGAL's linear_least_squares_fitting_3
+/// gives: 1 − λmin/λmid of their covariance (1 on a plane, 0 when they spread alike in every
+/// direction). Tells a scanned surface from points that fill a volume.
+double share_of_points_on_a_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples,
+                                    double min_quality);
+
 /// Not a CGAL step: the move [mm] above which a jet projection calls its point a spike, 4 robust
 /// standard deviations (1.4826 × the median) of `moves_mm`, the points' moves onto their jets.
 /// Infinite when there are no moves. Shared by reconstruct's smoothing and the own-side refit.
