@@ -58,16 +58,23 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
   for (Unit u : {Unit::mm, Unit::cm, Unit::m}) {
     const double size_mm = extent * mm_per_unit(u);
     if (!plausible_size(size_mm, expected_mm)) continue;
-    // cm and inches are only 2.54 apart, so a head in inches (11.2 units) also reads as a head in
-    // cm, 112 mm across, and was taken as one. No adult head (or respirator) is under 0.6 of the
-    // expected size (150 mm; 78 mm), so a cm size that small is not guessed: the user is asked
-    // which it is. (In inches it is then 0.64-1.5 times the expected size, always plausible.)
-    if (u == Unit::cm && size_mm < 0.6 * expected_mm) {
-      const double inch_mm = extent * mm_per_unit(Unit::inch);
+    // No adult head (or respirator) is under 0.6 of the expected size (150 mm; 78 mm), so no
+    // reading that small is guessed. cm and inches are only 2.54 apart: a head in inches (11.2
+    // units) also reads as a head in cm, 112 mm across, and was taken as one; the user is asked
+    // which it is (in inches it is then 0.64-1.5 times the expected size, always plausible). In mm
+    // such a size is an object of another kind: a respirator given as a head (107-133 mm) went
+    // through reconstruct and repair and failed in align "cannot tell up from down".
+    if (size_mm < smallest_real_share_of_extent * expected_mm) {
       std::ostringstream ss;
-      ss << "cannot tell the length unit: largest extent " << extent << " is " << format_number(size_mm)
-         << " mm in cm, small for an object of about " << expected_mm << " mm, or " << format_number(inch_mm)
-         << " mm in inches: force one with --unit cm or --unit in";
+      if (u == Unit::cm)
+        ss << "cannot tell the length unit: largest extent " << extent << " is " << format_number(size_mm)
+           << " mm in cm, small for an object of about " << expected_mm << " mm, or "
+           << format_number(extent * mm_per_unit(Unit::inch)) << " mm in inches: force one with --unit cm or --unit in";
+      else
+        ss << "largest extent " << extent << " is " << format_number(size_mm) << " mm in " << unit_name(u)
+           << ", under 0.6 of an object of about " << expected_mm
+           << " mm: an object of another kind (see --kind)? If the size is right, force the unit with --unit "
+           << unit_name(u);
       throw bad_input(what, ss.str());
     }
     return u;

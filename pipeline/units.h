@@ -14,6 +14,11 @@ namespace pipeline {
 inline constexpr double head_extent_mm = 250.0;
 inline constexpr double respirator_extent_mm = 130.0;
 
+/// No adult head is under 0.6 of head_extent_mm (150 mm) and no respirator under 0.6 of
+/// respirator_extent_mm (78 mm): a guessed unit that gives less is not taken (detect_unit), and
+/// reconstruct refuses a cloud of a detected unit that spans less once its outliers are gone.
+inline constexpr double smallest_real_share_of_extent = 0.6;
+
 /// head_extent_mm for "head", respirator_extent_mm for "respirator". @throws Error(usage) otherwise.
 double expected_extent_mm(const std::string& kind);
 
@@ -47,8 +52,9 @@ double mm_per_unit(Unit u);
 /// @param[in] what  file name for the error message
 /// @return mm, cm or m
 /// @throws Error(bad_input) when no unit gives a plausible size (e.g. a 3 km "head"), when the
-///         size could be cm or inches (in cm under 0.6 of expected_mm, in inches plausible: a
-///         head in inches), or extent is not positive and finite.
+///         first plausible size is under 0.6 of expected_mm (in cm: it could be inches, a head in
+///         inches; in mm or m: an object of another kind, a respirator given as a head), or extent
+///         is not positive and finite.
 Unit detect_unit(double extent, double expected_mm, const std::string& what);
 
 /// One log line on the unit a file was read in and the size that gives, so that a wrong guess

@@ -118,6 +118,11 @@ struct ReconstructOptions {
   /// advancing front: longest edge of a facet, in multiples of the point spacing (longer
   /// facets are vetoed and left as holes for repair); default 5, range > 1
   double max_edge_spacings = 5.0;
+  /// [mm], 0 = no check: points that span less than this once the outliers are removed are
+  /// refused as an object of another kind. The CLI sets it to 0.6 of the kind's size when it
+  /// detected the unit (pipeline::smallest_real_share_of_extent): the unit's own check sees the
+  /// outliers too, which made a cup scan given as a head 159 mm across instead of 112.
+  double min_extent_mm = 0;
 };
 
 /// What reconstruct did, for the log and the tests.
@@ -157,7 +162,8 @@ struct ReconstructStats {
 /// @param[out] stats  optional
 /// @return a triangle mesh [mm], outward-oriented (Poisson: oriented before its hole fills are cut)
 /// @throws pipeline::Error(bad_input) when the cloud has fewer than 100 points (after outlier
-///         removal) — too few to define a surface; Error(algorithm) when CGAL fails.
+///         removal) — too few to define a surface —, spans less than opt.min_extent_mm, lies on
+///         a plane or a line, or fills a volume; Error(algorithm) when CGAL fails.
 pipeline::SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind,
                                   const ReconstructOptions& opt, ReconstructStats* stats = nullptr);
 
