@@ -44,6 +44,7 @@
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/units.h"
+#include "scan2cad/remove_support_plane.h"
 #include "scan2cad/internal/orient_normals.h"
 #include "scan2cad/internal/refit_on_own_side.h"
 #include "scan2cad/internal/point_set_steps.h"
@@ -606,6 +607,17 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   const unsigned k_isolated = 4;
   internal::remove_points_beyond_spacing(pn, k_isolated, opt.outlier_factor);
   st.outliers_removed = before - pn.size();
+  if (opt.remove_support) {
+    clock.start("support plane (a table or turntable under the object)");
+    const SupportPlane support = remove_support_plane(pn);
+    st.support_points_removed = support.points_removed;
+    if (support.found)
+      pipeline::log("reconstruct", "  removed " + std::to_string(support.points_removed) +
+                                       " points of a plane the object stood on (a table or turntable, " +
+                                       pipeline::format_number(support.width_mm) + " mm across, " +
+                                       std::to_string(int(std::lround(100 * support.beyond_share))) +
+                                       " % of it beyond the object; --keep-support keeps it)");
+  }
   if (pn.size() < min_points)
     throw pipeline::bad_input("point cloud", "only " + std::to_string(pn.size()) +
                                                  " points left after outlier removal, expected at least " +

@@ -123,6 +123,9 @@ struct ReconstructOptions {
   /// detected the unit (pipeline::smallest_real_share_of_extent): the unit's own check sees the
   /// outliers too, which made a cup scan given as a head 159 mm across instead of 112.
   double min_extent_mm = 0;
+  /// the points of a table or turntable the object stood on are removed after the outliers
+  /// (remove_support_plane.h); false keeps them
+  bool remove_support = true;
 };
 
 /// What reconstruct did, for the log and the tests.
@@ -143,6 +146,8 @@ struct ReconstructStats {
   /// Poisson faces cut out where the scan has no points (ReconstructOptions::hole_cut_spacings)
   std::size_t faces_cut = 0;
   double projection_mean_mm = 0, projection_max_mm = 0;
+  /// points of the table or turntable the object stood on, removed (remove_support_plane.h)
+  std::size_t support_points_removed = 0;
   /// points left after step 1 (density cap and grid)
   std::size_t points_after_thinning = 0;
   /// wall and process-CPU seconds of each step, in order (the CPU time counts all threads of

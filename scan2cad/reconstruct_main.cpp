@@ -58,11 +58,16 @@ int main(int argc, char** argv) {
            "reach are smoothed again over their own side once oriented)");
   cli.option("-r", "--own-side-min-cos", &opt.refit_min_cos,
              "own-side refit: a neighbour is on a point's side when their normals' cosine exceeds this", -1.0, 1.0);
+  bool keep_support = false;
+  cli.flag("-B", "--keep-support", &keep_support,
+           "keep the points of a table or turntable the object stood on (default: a plane at the edge of the "
+           "scan that reaches beyond the object is removed)");
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
     opt.density_reference_points = std::size_t(density_points);
     opt.refit_on_own_side = !no_refit;
+    opt.remove_support = !keep_support;
     opt.projection_onto_unsmoothed = !onto_smoothed;
     opt.poisson_keep_thin_parts = !thin_parts_thinned;
     // 1. Options

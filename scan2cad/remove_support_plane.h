@@ -1,0 +1,60 @@
+#pragma once
+/// Finds the table, turntable or board a scanned head or respirator stood on and removes its
+/// points, before reconstruct meshes them.
+///
+/// A headform scanned on a table comes with a patch of the table around its neck. Poisson then
+/// failed on it (NIOSH medium 20 mm above a 280 mm disc: CGAL's surface mesher asserted, "is
+/// already inserted on surface", after 50 s), and a mesh of head and table would not have been a
+/// head anyway.
+///
+/// A support is a plane of points (CGAL's efficient RANSAC on a subsample) that
+///   1. has the object on one side only: at most max_other_side_share of the points off the
+///      plane lie on its far side (a plane through a head cuts it), and
+///   2. reaches beyond the object: at least min_beyond_share of its points lie more than
+///      footprint_gap_mm from the object's footprint, the other points projected onto the plane.
+///      A headform's flat neck cap (NIOSH medium's, 100 mm across) lies within the head's
+///      footprint and is kept; a table shows around it.
+/// Every point within the removal band of the plane, or beyond it, is removed: the table, and a
+/// neck cap that stands on it (repair closes the neck again).
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "pipeline/surface_mesh.h"
+
+namespace scan2cad {
+
+struct SupportPlaneOptions {
+  /// points the plane is searched on, spread evenly over the input (all when fewer)
+  std::size_t sample_points = 20000;
+  /// RANSAC: largest distance of a plane's point [mm]; a plane must hold min_plane_share of the
+  /// sample
+  double ransac_epsilon_mm = 1.0;
+  double min_plane_share = 0.03;
+  double max_other_side_share = 0.01;
+  double footprint_gap_mm = 10.0;
+  double min_beyond_share = 0.2;
+  /// points within max(this, 4 × the plane points' RMS distance) of the plane are removed [mm]
+  double min_removal_band_mm = 2.0;
+};
+
+struct SupportPlane {
+  bool found = false;
+  pipeline::Kernel::Plane_3 plane;  ///< oriented towards the object
+  std::size_t points_removed = 0;
+  double beyond_share = 0;    ///< share of the plane's sample points beyond the footprint
+  double width_mm = 0;        ///< largest extent of the plane's sample points
+  double removal_band_mm = 0;
+};
+
+/// Removes the points of the support the object stood on, if the scan holds one.
+///
+/// @param[in,out] pn  points [mm] (normals unused, kept with their points); on return without
+///                    the support's points, in their order
+/// @param[in]     opt SupportPlaneOptions
+/// @return what was found; found == false leaves pn as it was
+/// The same points give the same result in every run; CGAL::get_default_random() is left as it was.
+SupportPlane remove_support_plane(std::vector<std::pair<pipeline::Point, pipeline::Vector>>& pn,
+                                  const SupportPlaneOptions& opt = {});
+
+}  // namespace scan2cad
