@@ -1,7 +1,9 @@
 // The support a scanned object stood on, found and removed; see remove_support_plane.h.
 #include "scan2cad/remove_support_plane.h"
 
+#include <CGAL/Polygon_2.h>
 #include <CGAL/Random.h>
+#include <CGAL/convex_hull_2.h>
 #include <CGAL/Shape_detection/Efficient_RANSAC.h>
 #include <CGAL/linear_least_squares_fitting_3.h>
 #include <CGAL/pca_estimate_normals.h>
@@ -9,10 +11,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <limits>
 
 #include "pipeline/units.h"
 #include "scan2cad/internal/point_set_steps.h"
-#include "scan2cad/internal/project_onto_points.h"
 
 namespace scan2cad {
 
@@ -22,6 +25,7 @@ using pipeline::Point;
 using pipeline::Vector;
 using PN = std::pair<Point, Vector>;
 using Plane = pipeline::Kernel::Plane_3;
+using Point2 = pipeline::Kernel::Point_2;
 using PointMap = CGAL::First_of_pair_property_map<PN>;
 using NormalMap = CGAL::Second_of_pair_property_map<PN>;
 using Traits = CGAL::Shape_detection::Efficient_RANSAC_traits<pipeline::Kernel, std::vector<PN>, PointMap, NormalMap>;
@@ -65,16 +69,23 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
   if (double(below) > opt.max_other_side_share * double(above + below)) return s;
   s.plane = plane;
 
-  // 2. beyond the object's footprint
-  std::vector<PN> footprint;
+  // 2. beyond the object's outline: its other points projected onto the plane, their convex
+  //    hull. Not their nearest projected point: a cup's flat top has no point of the cup above or
+  //    below it (its inner sheet lies within the band), yet lies inside the cup's outline.
+  std::vector<Point2> outline_points;
   for (std::size_t i = 0; i < sample.size(); ++i)
-    if (!is_plane[i] && signed_mm(sample[i].first) > s.removal_band_mm)
-      footprint.push_back({plane.projection(sample[i].first), Vector(0, 0, 0)});
-  const internal::PointTree tree(footprint);
+    if (!is_plane[i] && signed_mm(sample[i].first) > s.removal_band_mm) outline_points.push_back(plane.to_2d(sample[i].first));
+  std::vector<Point2> hull;
+  CGAL::convex_hull_2(outline_points.begin(), outline_points.end(), std::back_inserter(hull));
+  const CGAL::Polygon_2<pipeline::Kernel> outline(hull.begin(), hull.end());
   std::size_t beyond = 0;
   for (const Point& p : plane_points) {
-    const auto nearest = tree.nearest(plane.projection(p), 1);
-    beyond += std::sqrt(nearest.begin()->second) > opt.footprint_gap_mm;
+    const Point2 q = plane.to_2d(p);
+    if (outline.bounded_side(q) != CGAL::ON_UNBOUNDED_SIDE) continue;
+    double nearest_sq = std::numeric_limits<double>::infinity();
+    for (auto e = outline.edges_begin(); e != outline.edges_end(); ++e)
+      nearest_sq = std::min(nearest_sq, CGAL::to_double(CGAL::squared_distance(q, *e)));
+    beyond += nearest_sq > opt.outline_gap_mm * opt.outline_gap_mm;
   }
   s.beyond_share = double(beyond) / double(plane_points.size());
   s.width_mm = pipeline::largest_extent(plane_points);

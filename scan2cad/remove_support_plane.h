@@ -11,9 +11,9 @@
 ///   1. has the object on one side only: at most max_other_side_share of the points off the
 ///      plane lie on its far side (a plane through a head cuts it), and
 ///   2. reaches beyond the object: at least min_beyond_share of its points lie more than
-///      footprint_gap_mm from the object's footprint, the other points projected onto the plane.
-///      A headform's flat neck cap (NIOSH medium's, 100 mm across) lies within the head's
-///      footprint and is kept; a table shows around it.
+///      outline_gap_mm outside the object's outline on it, the convex hull of the other points
+///      projected onto the plane. A headform's flat neck cap (NIOSH medium's, 135 mm across) and
+///      a cup's flat top lie within the outline and are kept; a table shows around it.
 /// Every point within the removal band of the plane, or beyond it, is removed: the table, and a
 /// neck cap that stands on it (repair closes the neck again).
 #include <cstddef>
@@ -32,7 +32,7 @@ struct SupportPlaneOptions {
   double ransac_epsilon_mm = 1.0;
   double min_plane_share = 0.03;
   double max_other_side_share = 0.01;
-  double footprint_gap_mm = 10.0;
+  double outline_gap_mm = 10.0;
   double min_beyond_share = 0.2;
   /// points within max(this, 4 × the plane points' RMS distance) of the plane are removed [mm]
   double min_removal_band_mm = 2.0;
@@ -42,7 +42,7 @@ struct SupportPlane {
   bool found = false;
   pipeline::Kernel::Plane_3 plane;  ///< oriented towards the object
   std::size_t points_removed = 0;
-  double beyond_share = 0;    ///< share of the plane's sample points beyond the footprint
+  double beyond_share = 0;    ///< share of the plane's sample points beyond the object's outline
   double width_mm = 0;        ///< largest extent of the plane's sample points
   double removal_band_mm = 0;
 };
