@@ -72,7 +72,7 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
            << format_number(extent * mm_per_unit(Unit::inch)) << " mm in inches: force one with --unit cm or --unit in";
       else
         ss << "largest extent " << extent << " is " << format_number(size_mm) << " mm in " << unit_name(u)
-           << ", under 0.6 of an object of about " << expected_mm
+           << ", under " << smallest_real_share_of_extent << " of an object of about " << expected_mm
            << " mm: an object of another kind (see --kind)? If the size is right, force the unit with --unit "
            << unit_name(u);
       throw bad_input(what, ss.str());

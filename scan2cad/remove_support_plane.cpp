@@ -95,14 +95,19 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
 
 }  // namespace
 
-SupportPlane remove_support_plane(std::vector<PN>& pn, const SupportPlaneOptions& opt) {
-  SupportPlane none;
-  if (pn.size() < 100) return none;
+bool SupportPlane::holds(const Point& p) const {
+  const double a = CGAL::to_double(plane.a()), b = CGAL::to_double(plane.b()), c = CGAL::to_double(plane.c()),
+               d = CGAL::to_double(plane.d());
+  return found && (a * p.x() + b * p.y() + c * p.z() + d) / std::sqrt(a * a + b * b + c * c) <= removal_band_mm;
+}
+
+SupportPlane find_support_plane(const std::vector<Point>& points, const SupportPlaneOptions& opt) {
+  if (points.size() < 100) return {};
   // Why a subsample: the RANSAC and its normals cost in proportion to the points, and a table
   // holds thousands of them in any scan that shows it.
   std::vector<PN> sample;
-  const std::size_t stride = (pn.size() + opt.sample_points - 1) / opt.sample_points;
-  for (std::size_t i = 0; i < pn.size(); i += stride) sample.push_back({pn[i].first, Vector(0, 0, 0)});
+  const std::size_t stride = (points.size() + opt.sample_points - 1) / opt.sample_points;
+  for (std::size_t i = 0; i < points.size(); i += stride) sample.push_back({points[i], Vector(0, 0, 0)});
   CGAL::pca_estimate_normals<CGAL::Sequential_tag>(sample, 12,
                                                    CGAL::parameters::point_map(PointMap()).normal_map(NormalMap()));
   const double spacing_mm = internal::average_spacing(sample, 6);
@@ -131,21 +136,21 @@ SupportPlane remove_support_plane(std::vector<PN>& pn, const SupportPlaneOptions
       planes.push_back({plane->indices_of_assigned_points().size(), plane});
   std::stable_sort(planes.begin(), planes.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   for (const auto& [size, plane] : planes) {
-    SupportPlane s = judge(sample, plane->indices_of_assigned_points(), Plane(*plane), opt);
-    if (!s.found) continue;
-    const double a = CGAL::to_double(s.plane.a()), b = CGAL::to_double(s.plane.b()), c = CGAL::to_double(s.plane.c()),
-                 d = CGAL::to_double(s.plane.d()), unit = std::sqrt(a * a + b * b + c * c);
-    const std::size_t before = pn.size();
-    pn.erase(std::remove_if(pn.begin(), pn.end(),
-                            [&](const PN& p) {
-                              return (a * p.first.x() + b * p.first.y() + c * p.first.z() + d) / unit <=
-                                     s.removal_band_mm;
-                            }),
-             pn.end());
-    s.points_removed = before - pn.size();
-    return s;
+    const SupportPlane s = judge(sample, plane->indices_of_assigned_points(), Plane(*plane), opt);
+    if (s.found) return s;
   }
-  return none;
+  return {};
+}
+
+SupportPlane remove_support_plane(std::vector<PN>& pn, const SupportPlaneOptions& opt) {
+  std::vector<Point> points(pn.size());
+  std::transform(pn.begin(), pn.end(), points.begin(), [](const PN& p) { return p.first; });
+  SupportPlane s = find_support_plane(points, opt);
+  if (!s.found) return s;
+  const std::size_t before = pn.size();
+  pn.erase(std::remove_if(pn.begin(), pn.end(), [&](const PN& p) { return s.holds(p.first); }), pn.end());
+  s.points_removed = before - pn.size();
+  return s;
 }
 
 }  // namespace scan2cad

@@ -45,15 +45,23 @@ struct SupportPlane {
   double beyond_share = 0;    ///< share of the plane's sample points beyond the object's outline
   double width_mm = 0;        ///< largest extent of the plane's sample points
   double removal_band_mm = 0;
+  /// p belongs to the support: within the removal band of the plane or beyond it
+  bool holds(const pipeline::Point& p) const;
 };
 
-/// Removes the points of the support the object stood on, if the scan holds one.
+/// Finds the support the object stood on, if the points hold one.
+///
+/// @param[in] points  points [mm], a scan's or a mesh's vertices
+/// @param[in] opt     SupportPlaneOptions
+/// @return what was found (points_removed 0)
+/// The same points give the same result in every run; CGAL::get_default_random() is left as it was.
+SupportPlane find_support_plane(const std::vector<pipeline::Point>& points, const SupportPlaneOptions& opt = {});
+
+/// find_support_plane, then removes the points it holds.
 ///
 /// @param[in,out] pn  points [mm] (normals unused, kept with their points); on return without
 ///                    the support's points, in their order
-/// @param[in]     opt SupportPlaneOptions
 /// @return what was found; found == false leaves pn as it was
-/// The same points give the same result in every run; CGAL::get_default_random() is left as it was.
 SupportPlane remove_support_plane(std::vector<std::pair<pipeline::Point, pipeline::Vector>>& pn,
                                   const SupportPlaneOptions& opt = {});
 

@@ -9,6 +9,7 @@
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/smooth_shape.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -18,6 +19,7 @@
 #include "pipeline/progress.h"
 #include "pipeline/require_affordable_edge.h"
 #include "scan2cad/internal/cleanup.h"
+#include "scan2cad/remove_support_plane.h"
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 using pipeline::SurfaceMesh;
@@ -61,10 +63,29 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   r.input_faces = soup.polygons.size();
   pipeline::Progress progress("repair", 0);
 
+  // 0. A table or turntable the object stood on: its faces go, before the soup is made a mesh
+  //    (which splits the vertices the cut leaves non-manifold).
+  pipeline::PolygonSoup without_support;
+  if (opt.remove_support) {
+    progress.step("support plane (a table or turntable under the object)");
+    const SupportPlane support = find_support_plane(soup.points);
+    if (support.found) {
+      without_support.points = soup.points;
+      for (const auto& polygon : soup.polygons)
+        if (std::none_of(polygon.begin(), polygon.end(), [&](std::size_t v) { return support.holds(soup.points[v]); }))
+          without_support.polygons.push_back(polygon);
+      r.support_faces_removed = soup.polygons.size() - without_support.polygons.size();
+      pipeline::log("repair", "  removed " + std::to_string(r.support_faces_removed) +
+                                  " faces of a plane the object stood on (a table or turntable, " +
+                                  pipeline::format_number(support.width_mm) + " mm across; --keep-support keeps it)");
+    }
+  }
+  const pipeline::PolygonSoup& input = r.support_faces_removed > 0 ? without_support : soup;
+
   // 1. Soup → mesh, degenerate faces.
   progress.step("polygon soup to manifold mesh");
   internal::SoupStats ss;
-  SurfaceMesh mesh = internal::soup_to_mesh(soup, &ss);
+  SurfaceMesh mesh = internal::soup_to_mesh(input, &ss);
   r.soup_polygons_removed = ss.polygons_removed;
   r.non_manifold_vertices_split = ss.non_manifold_vertices_split;
   const std::size_t f0 = mesh.number_of_faces();
@@ -174,6 +195,7 @@ nlohmann::json RepairReport::to_json() const {
   std::size_t filled = 0;
   for (const auto& h : holes) filled += h.filled;
   return {{"input", {{"vertices", input_vertices}, {"faces", input_faces}}},
+          {"support_faces_removed", support_faces_removed},
           {"soup_polygons_removed", soup_polygons_removed},
           {"non_manifold_vertices_split", non_manifold_vertices_split},
           {"degenerate_faces_removed", degenerate_faces_removed},
@@ -202,7 +224,9 @@ std::string RepairReport::summary() const {
   for (const auto& h : holes) filled += h.filled;
   for (const auto& h : symmetry.holes) completed += h.completed;
   std::ostringstream s;
-  s << "in " << input_faces << " faces; removed: " << soup_polygons_removed << " soup polygons, "
+  s << "in " << input_faces << " faces; removed: ";
+  if (support_faces_removed > 0) s << support_faces_removed << " faces of a table, ";
+  s << soup_polygons_removed << " soup polygons, "
     << degenerate_faces_removed << " degenerate faces, " << components_removed << " small components ("
     << component_faces_removed << " faces), " << self_intersecting_faces_removed << " self-intersecting faces; "
     << spike_vertices_moved << " spike vertices moved; " << filled << " holes filled";

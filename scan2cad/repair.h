@@ -2,6 +2,8 @@
 /// Repair of a reconstructed or scanned surface into a clean, manifold triangle mesh.
 ///
 /// Steps, in order (each counted in RepairReport):
+///  0. the faces on a table or turntable the object stood on (remove_support_plane.h; a
+///     scanner's own mesh may hold it) are removed;
 ///  1. soup → mesh: CGAL repair_polygon_soup (duplicate points, degenerate and duplicate
 ///     polygons), orient_polygon_soup (non-manifold vertices are split),
 ///     polygon_soup_to_polygon_mesh; then remove_degenerate_faces;
@@ -53,12 +55,16 @@ struct RepairOptions {
   double spike_factor = 2.0;
   /// heads: reshape the hole fills after the mirror image of the scanned other side; default on
   bool symmetric_completion = true;
+  /// the faces on a table or turntable the object stood on (remove_support_plane.h), which a
+  /// scanner's own meshing may export with the object, are removed first; false keeps them
+  bool remove_support = true;
   SymmetricCompletionOptions symmetry;
 };
 
 /// What repair changed, as written to the JSON report.
 struct RepairReport {
   std::size_t input_vertices = 0, input_faces = 0;
+  std::size_t support_faces_removed = 0;      ///< on a table or turntable (RepairOptions::remove_support)
   std::size_t soup_polygons_removed = 0;      ///< by repair_polygon_soup (duplicates, degenerate)
   std::size_t non_manifold_vertices_split = 0;  ///< by orient_polygon_soup
   std::size_t degenerate_faces_removed = 0;

@@ -34,12 +34,17 @@ int main(int argc, char** argv) {
            "heads: keep the faired hole fills (default: reshape them after the mirrored other side)");
   cli.option("-a", "--max-ring-asymmetry", &opt.symmetry.max_ring_asymmetry_mm,
              "complete a hole by symmetry only if its ring is this symmetric (RMS) [mm]", 0.0, 100.0);
+  bool keep_support = false;
+  cli.flag("-B", "--keep-support", &keep_support,
+           "keep the faces on a table or turntable the object stood on (default: removed, as reconstruct "
+           "removes its points)");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}, {"--report", report_path}});
     // 1. Options
     pipeline::require_extension("--out", out, pipeline::surface_mesh_extensions);
     if (!report_path.empty()) pipeline::require_extension("--report", report_path, {".json"});
     opt.symmetric_completion = !no_symmetry;
+    opt.remove_support = !keep_support;
     const auto kind = kind_unit.kind();
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();
     pipeline::require_writable_outputs({out, report_path});
