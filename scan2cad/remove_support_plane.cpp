@@ -70,13 +70,14 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
   s.plane = plane;
 
   // 2. beyond the object's outline: its other points projected onto the plane, their convex
-  //    hull. Not their nearest projected point: a cup's flat top has no point of the cup above or
-  //    below it (its inner sheet lies within the band), yet lies inside the cup's outline.
+  //    hull. Not their nearest projected point: a generated cup's flat part has no point of the
+  //    cup above or below it (its inner sheet lies within the band), yet lies inside its outline.
   std::vector<Point2> outline_points;
   for (std::size_t i = 0; i < sample.size(); ++i)
     if (!is_plane[i] && signed_mm(sample[i].first) > s.removal_band_mm) outline_points.push_back(plane.to_2d(sample[i].first));
   std::vector<Point2> hull;
   CGAL::convex_hull_2(outline_points.begin(), outline_points.end(), std::back_inserter(hull));
+  if (hull.size() < 3) return s;  // the rest on a line: no outline to be beyond (and no polygon)
   const CGAL::Polygon_2<pipeline::Kernel> outline(hull.begin(), hull.end());
   std::size_t beyond = 0;
   for (const Point& p : plane_points) {
