@@ -68,9 +68,10 @@ constexpr std::size_t min_points = 100;
 constexpr double min_share_of_normals_along_surface = 0.8;
 // Points that fill a volume (noise, a voxel grid's centres) instead of lying on a surface: their
 // 128 nearest points fit no plane. Share of 2,000 points whose neighbours fit a plane with CGAL's
-// quality 1 − λmin/λmid ≥ 0.5, measured after the outlier removal: generated heads and cups 1.000,
-// NIOSH medium and large with 0.3 / 2 mm of noise 0.99 / 0.92; uniform points in a head-sized box
-// (2k to 200k) 0.09–0.19, in a 20 mm slab 0.23. With 64 neighbours a noisy head fell to 0.45.
+// quality 1 − λmin/λmid ≥ 0.5, measured after the outlier removal: generated small head, one-size
+// and three-size S cups 1.000, NIOSH medium and large with 2 mm of noise 0.92 and 0.94; uniform
+// points in a head-sized box (2k to 200k) 0.09–0.19, in a 20 mm slab 0.23. With 64 neighbours the
+// NIOSH heads with 2 mm of noise fell to 0.45 (0.99 with 0.3 mm).
 constexpr unsigned surface_check_neighbors = 128;
 constexpr double surface_check_min_quality = 0.5, min_share_of_points_on_a_surface = 0.5;
 
