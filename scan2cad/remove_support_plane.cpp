@@ -32,6 +32,12 @@ using Traits = CGAL::Shape_detection::Efficient_RANSAC_traits<pipeline::Kernel, 
 using Ransac = CGAL::Shape_detection::Efficient_RANSAC<Traits>;
 using RansacPlane = CGAL::Shape_detection::Plane<Traits>;
 
+// Signed distance of p from the plane [mm], positive on the side its normal points to.
+double signed_distance_mm(const Plane& plane, const Point& p) {
+  return CGAL::to_double(plane.a() * p.x() + plane.b() * p.y() + plane.c() * p.z() + plane.d()) /
+         std::sqrt(CGAL::to_double(plane.orthogonal_vector().squared_length()));
+}
+
 // Judges one detected plane against the sample; found == false when it is no support.
 SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>& on_plane, const Plane& detected,
                    const SupportPlaneOptions& opt) {
@@ -43,9 +49,7 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
   Point centroid;
   CGAL::linear_least_squares_fitting_3(plane_points.begin(), plane_points.end(), plane, centroid,
                                        CGAL::Dimension_tag<0>());
-  const double unit = std::sqrt(plane.orthogonal_vector().squared_length());
-  const auto signed_mm = [&](const Point& p) { return CGAL::to_double(plane.a() * p.x() + plane.b() * p.y() +
-                                                                      plane.c() * p.z() + plane.d()) / unit; };
+  const auto signed_mm = [&](const Point& p) { return signed_distance_mm(plane, p); };  // plane as oriented below
   double sum_sq = 0;
   for (const Point& p : plane_points) sum_sq += signed_mm(p) * signed_mm(p);
   s.removal_band_mm = std::max(opt.min_removal_band_mm, 4.0 * std::sqrt(sum_sq / double(plane_points.size())));
@@ -97,9 +101,7 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
 }  // namespace
 
 bool SupportPlane::holds(const Point& p) const {
-  const double a = CGAL::to_double(plane.a()), b = CGAL::to_double(plane.b()), c = CGAL::to_double(plane.c()),
-               d = CGAL::to_double(plane.d());
-  return found && (a * p.x() + b * p.y() + c * p.z() + d) / std::sqrt(a * a + b * b + c * c) <= removal_band_mm;
+  return found && signed_distance_mm(plane, p) <= removal_band_mm;
 }
 
 SupportPlane find_support_plane(const std::vector<Point>& points, const SupportPlaneOptions& opt) {

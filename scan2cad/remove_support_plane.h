@@ -13,7 +13,7 @@
 ///   2. reaches beyond the object: at least min_beyond_share of its points lie more than
 ///      outline_gap_mm outside the object's outline on it, the convex hull of the other points
 ///      projected onto the plane. A headform's flat neck cap (NIOSH medium's, 135 mm across) and
-///      a cup's flat top lie within the outline and are kept; a table shows around it.
+///      a generated cup's flat part lie within the outline and are kept; a table shows around it.
 /// Every point within the removal band of the plane, or beyond it, is removed: the table, and a
 /// neck cap that stands on it (repair closes the neck again).
 #include <cstddef>
