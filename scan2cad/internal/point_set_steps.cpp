@@ -115,37 +115,42 @@ void jet_normals(std::vector<PointWithNormal>& pn, unsigned k) {
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i].second = normal[i];
 }
 
-double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples) {
+namespace {
+
+// The share of up to `samples` evenly spread points of pn (every stride-th) for which
+// passes(i, query) holds; 1 for no points. query: CGAL's k-nearest query over all of pn.
+template <class Test>
+double share_of_spread_points(const std::vector<PointWithNormal>& pn, std::size_t samples, const Test& passes) {
   if (pn.empty() || samples == 0) return 1.0;
   const std::size_t stride = (pn.size() + samples - 1) / samples;  // at most `samples` points
   const PointNeighborQuery query(pn, PointWithNormalPointMap());
-  std::size_t tested = 0, along = 0;
-  for (std::size_t i = 0; i < pn.size(); i += stride, ++tested) {
+  std::size_t tested = 0, passed = 0;
+  for (std::size_t i = 0; i < pn.size(); i += stride, ++tested) passed += passes(i, query);
+  return double(passed) / double(tested);
+}
+
+}  // namespace
+
+double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples) {
+  return share_of_spread_points(pn, samples, [&](std::size_t i, const PointNeighborQuery& query) {
     const pipeline::Vector jet =
         CGAL::internal::jet_estimate_normal<CGAL::Eigen_svd>(pn[i].first, query, k, 0.0, jet_degree_fitting);
     const double scale = std::sqrt(jet.squared_length() * pn[i].second.squared_length());
-    along += scale > 0 && std::abs(jet * pn[i].second) >= std::cos(M_PI / 4) * scale;
-  }
-  return double(along) / double(tested);
+    return scale > 0 && std::abs(jet * pn[i].second) >= std::cos(M_PI / 4) * scale;
+  });
 }
 
 double share_of_points_on_a_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples,
                                     double min_quality) {
-  if (pn.empty() || samples == 0) return 1.0;
-  const std::size_t stride = (pn.size() + samples - 1) / samples;  // at most `samples` points
-  const PointNeighborQuery query(pn, PointWithNormalPointMap());
-  std::size_t tested = 0, on_surface = 0;
   std::vector<pipeline::Point> neighbours;
-  for (std::size_t i = 0; i < pn.size(); i += stride, ++tested) {
+  return share_of_spread_points(pn, samples, [&](std::size_t i, const PointNeighborQuery& query) {
     neighbours.clear();
     query.get_points(pn[i].first, k, 0.0, std::back_inserter(neighbours));
     pipeline::Kernel::Plane_3 plane;
     pipeline::Point centroid;
-    const double quality = CGAL::linear_least_squares_fitting_3(neighbours.begin(), neighbours.end(), plane, centroid,
-                                                                CGAL::Dimension_tag<0>());
-    on_surface += quality >= min_quality;
-  }
-  return double(on_surface) / double(tested);
+    return CGAL::linear_least_squares_fitting_3(neighbours.begin(), neighbours.end(), plane, centroid,
+                                                CGAL::Dimension_tag<0>()) >= min_quality;
+  });
 }
 
 double spike_move_limit_mm(std::vector<double> moves_mm) {
