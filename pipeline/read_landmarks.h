@@ -25,16 +25,18 @@ inline constexpr double max_landmark_coordinate_mm = 1e4;
 const std::vector<std::string>& head_landmark_names();
 
 /// Reads the "landmarks" object of `path`: name → {"position": [x, y, z], "confidence": c}.
-/// "confidence" is optional (1 when absent); other keys are ignored.
+/// "confidence" is optional (1 when absent); a landmark's other keys are refused, except comments
+/// ("_..."). Landmarks of other names are kept (and held to the side rule below).
 ///
 /// @param[in] path      the JSON file
 /// @param[in] required  names the caller needs; other landmarks in the file are kept as well
 /// @return every landmark of the file, by name
 /// @throws Error(bad_input) naming `path` and the first problem: no "landmarks" object; a position
-///         that is not three finite numbers; a confidence that is not a number in [0, 1]; a
-///         required name missing; a "*_left" landmark at x <= 0 or a "*_right" one at x >= 0 (a
-///         mirrored head, or one not in align's frame); a menton less than 30 mm below the sellion
-///         (a head not y-up, or the two swapped) or a pronasale not between them in y.
+///         that is not three finite numbers; an unknown key in a landmark; a confidence that is
+///         not a number in [0, 1]; a required name missing; a "*_left" landmark at x <= 0 or a
+///         "*_right" one at x >= 0 (a mirrored head, or one not in align's frame); a menton less
+///         than 30 mm below the sellion (a head not y-up, or the two swapped) or a pronasale not
+///         between them in y.
 std::map<std::string, Landmark> read_landmarks(const std::string& path, const std::vector<std::string>& required);
 
 }  // namespace pipeline

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <set>
+#include <string>
 #include <unordered_map>
 #include <nlohmann/json.hpp>
 
@@ -165,6 +167,11 @@ HeadParams head_params_from_json(const nlohmann::json& j, const std::string& pat
     throw pipeline::bad_input(path, "unknown headform id '" + id + "', known:" + known);
   }
   const auto& h = j["headforms"][id];
+  // every dimension is required, but an added one ("chin_protrusion": 12) was read by no one
+  std::set<std::string> known;
+  for (const Range& r : kFields) known.insert(r.name);
+  if (const std::string key = pipeline::first_unknown_key(h, known); !key.empty())
+    throw pipeline::bad_input(path, "headform '" + id + "': unknown key \"" + key + "\"");
   HeadParams p;
   for (const Range& r : kFields) {
     if (!h.contains(r.name) || !h[r.name].is_number())

@@ -86,6 +86,10 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   text.replace(text.find("\"face_length\": 120.6"), 20, "\"face_length\": 0.1206");
   expect_refused(text, "metres.json", "--kind head --id medium",
                  "headform 'medium': face_length = 0.1206 mm, expected 80..170");
+  // A dimension no headform has was ignored, without a word.
+  text = file_text(headforms);
+  text.replace(text.find("\"face_length\": 120.6"), 20, "\"chin_protrusion\": 12, \"face_length\": 120.6");
+  expect_refused(text, "added.json", "--kind head --id medium", "headform 'medium': unknown key \"chin_protrusion\"");
   // A cup's optional dimension misspelt ("wal") was read as absent: the default wall, exit 0.
   std::string cups = file_text(std::string(SOURCE_DIR) + "/data/generator/respirators.json");
   const std::size_t wall = cups.find("\"wall\"", cups.find("\"onesize\""));

@@ -78,6 +78,10 @@ TEST(read_landmarks, names_the_file_and_the_landmark_for_each_problem) {
   EXPECT_EQ(message_for(with("sellion", "confidence", nullptr)),
             "landmark sellion: confidence null, expected a number 0..1");
   EXPECT_EQ(message_for(with("sellion", "confidence", 1.5)), "landmark sellion: confidence 1.5, expected 0..1");
+  // a misspelt confidence was read as absent, as 1; a comment key is allowed
+  EXPECT_EQ(message_for(with("sellion", "confidnce", 0.2)),
+            "landmark sellion: unknown key \"confidnce\" (a landmark has \"position\" and \"confidence\")");
+  EXPECT_EQ(message_for(with("sellion", "_note", "moved by hand")), "no error");
   nlohmann::json missing = nine_landmarks();
   missing["landmarks"].erase("pronasale");
   EXPECT_EQ(message_for(missing), "landmark pronasale missing");
