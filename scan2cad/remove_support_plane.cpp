@@ -1,7 +1,6 @@
 // The support a scanned object stood on, found and removed; see remove_support_plane.h.
 #include "scan2cad/remove_support_plane.h"
 
-#include <CGAL/Polygon_2.h>
 #include <CGAL/Random.h>
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/Shape_detection/Efficient_RANSAC.h>
@@ -52,7 +51,10 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
   const auto signed_mm = [&](const Point& p) { return signed_distance_mm(plane, p); };  // plane as oriented below
   double sum_sq = 0;
   for (const Point& p : plane_points) sum_sq += signed_mm(p) * signed_mm(p);
-  s.removal_band_mm = std::max(opt.min_removal_band_mm, 4.0 * std::sqrt(sum_sq / double(plane_points.size())));
+  const double rms_mm = std::sqrt(sum_sq / double(plane_points.size()));
+  s.removal_band_mm = std::max(opt.min_removal_band_mm, 4.0 * rms_mm);
+  s.contact_band_mm = std::min(s.removal_band_mm, std::max(opt.min_contact_band_mm, 4.0 * rms_mm));
+  s.footprint_margin_mm = opt.footprint_margin_mm;
 
   // 1. the object on one side
   std::vector<char> is_plane(sample.size(), 0);
@@ -79,19 +81,20 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
   std::vector<Point2> outline_points;
   for (std::size_t i = 0; i < sample.size(); ++i)
     if (!is_plane[i] && signed_mm(sample[i].first) > s.removal_band_mm) outline_points.push_back(plane.to_2d(sample[i].first));
-  std::vector<Point2> hull;
-  CGAL::convex_hull_2(outline_points.begin(), outline_points.end(), std::back_inserter(hull));
-  if (hull.size() < 3) return s;  // the rest on a line: no outline to be beyond (and no polygon)
-  const CGAL::Polygon_2<pipeline::Kernel> outline(hull.begin(), hull.end());
+  std::vector<Point2> outline;
+  CGAL::convex_hull_2(outline_points.begin(), outline_points.end(), std::back_inserter(outline));
+  if (outline.size() < 3) return s;  // the rest on a line: no outline to be beyond
   std::size_t beyond = 0;
-  for (const Point& p : plane_points) {
-    const Point2 q = plane.to_2d(p);
-    if (outline.bounded_side(q) != CGAL::ON_UNBOUNDED_SIDE) continue;
-    double nearest_sq = std::numeric_limits<double>::infinity();
-    for (auto e = outline.edges_begin(); e != outline.edges_end(); ++e)
-      nearest_sq = std::min(nearest_sq, CGAL::to_double(CGAL::squared_distance(q, *e)));
-    beyond += nearest_sq > opt.outline_gap_mm * opt.outline_gap_mm;
+  for (const Point& p : plane_points) beyond += distance_outside_convex_polygon(plane.to_2d(p), outline) > opt.outline_gap_mm;
+
+  // where the object stands on the plane, if it does
+  std::vector<Point2> foot_points;
+  for (std::size_t i = 0; i < sample.size(); ++i) {
+    const double d = signed_mm(sample[i].first);
+    if (!is_plane[i] && d > s.removal_band_mm && d <= s.removal_band_mm + opt.foot_height_mm)
+      foot_points.push_back(plane.to_2d(sample[i].first));
   }
+  CGAL::convex_hull_2(foot_points.begin(), foot_points.end(), std::back_inserter(s.footprint));
   s.beyond_share = double(beyond) / double(plane_points.size());
   s.width_mm = pipeline::largest_extent(plane_points);
   s.found = s.beyond_share >= opt.min_beyond_share;
@@ -100,8 +103,26 @@ SupportPlane judge(const std::vector<PN>& sample, const std::vector<std::size_t>
 
 }  // namespace
 
+double distance_outside_convex_polygon(const Point2& q, const std::vector<Point2>& hull) {
+  if (hull.empty()) return std::numeric_limits<double>::infinity();
+  // q is inside when it is on no edge's right (a single point or a segment has no inside)
+  double nearest_sq = std::numeric_limits<double>::infinity();
+  bool inside = hull.size() >= 3;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Point2& a = hull[i];
+    const Point2& b = hull[(i + 1) % hull.size()];
+    inside = inside && CGAL::orientation(a, b, q) != CGAL::RIGHT_TURN;
+    nearest_sq = std::min(nearest_sq, a == b ? CGAL::to_double(CGAL::squared_distance(q, a))
+                                             : CGAL::to_double(CGAL::squared_distance(q, pipeline::Kernel::Segment_2(a, b))));
+  }
+  return inside ? 0.0 : std::sqrt(nearest_sq);
+}
+
 bool SupportPlane::holds(const Point& p) const {
-  return found && signed_distance_mm(plane, p) <= removal_band_mm;
+  if (!found) return false;
+  const double d = signed_distance_mm(plane, p);
+  if (d <= contact_band_mm) return true;
+  return d <= removal_band_mm && distance_outside_convex_polygon(plane.to_2d(p), footprint) > footprint_margin_mm;
 }
 
 SupportPlane find_support_plane(const std::vector<Point>& points, const SupportPlaneOptions& opt) {
