@@ -140,6 +140,10 @@ class MshText {
   std::vector<Section> sections() const {
     std::vector<Section> out;
     bool open = false;
+    const auto not_closed = [&](const std::string& where) {
+      return bad_input(path_, "section $" + out.back().name + " (line " + std::to_string(out.back().begin + 1) +
+                                  ") is not closed by $End" + out.back().name + " " + where);
+    };
     for (std::size_t i = 0; i < lines_.size(); ++i) {
       const std::string_view line = lines_[i];
       if (line.empty() || line[0] != '$') continue;
@@ -152,14 +156,10 @@ class MshText {
         out.back().end = i;
         open = false;
       } else if (out.back().name != "Comments") {
-        throw bad_input(path_, "section $" + out.back().name + " (line " + std::to_string(out.back().begin + 1) +
-                                   ") is not closed by $End" + out.back().name + " before line " +
-                                   std::to_string(i + 1) + " (" + std::string(line) + ")");
+        throw not_closed("before line " + std::to_string(i + 1) + " (" + std::string(line) + ")");
       }
     }
-    if (open)
-      throw bad_input(path_, "section $" + out.back().name + " (line " + std::to_string(out.back().begin + 1) +
-                                 ") is not closed by $End" + out.back().name + " (truncated file?)");
+    if (open) throw not_closed("(truncated file?)");
     return out;
   }
 
