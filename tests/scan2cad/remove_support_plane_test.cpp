@@ -249,3 +249,17 @@ TEST(remove_support_plane, repair_removes_a_table_meshed_with_the_head) {
   std::printf("repair: %zu of the table's %zu faces and the cap's removed, lowest point %.1f mm (cap %.1f)\n",
               on_table.support_faces_removed, table_faces, lowest_y_mm, niosh_cap_y_mm);
 }
+
+// The outline and footprint tests' distance: 0 inside a convex polygon, else to its nearest edge;
+// a footprint of one point or a segment has no inside; none is infinitely far.
+TEST(remove_support_plane, distance_outside_a_convex_polygon) {
+  using P2 = pipeline::Kernel::Point_2;
+  const std::vector<P2> square = {P2(0, 0), P2(10, 0), P2(10, 10), P2(0, 10)};  // counterclockwise
+  EXPECT_EQ(scan2cad::distance_outside_convex_polygon(P2(5, 5), square), 0.0);
+  EXPECT_EQ(scan2cad::distance_outside_convex_polygon(P2(10, 3), square), 0.0);  // on an edge
+  EXPECT_DOUBLE_EQ(scan2cad::distance_outside_convex_polygon(P2(13, 5), square), 3.0);
+  EXPECT_DOUBLE_EQ(scan2cad::distance_outside_convex_polygon(P2(13, 14), square), 5.0);  // to the corner
+  EXPECT_DOUBLE_EQ(scan2cad::distance_outside_convex_polygon(P2(3, 4), {P2(0, 0)}), 5.0);
+  EXPECT_DOUBLE_EQ(scan2cad::distance_outside_convex_polygon(P2(5, 2), {P2(0, 0), P2(10, 0)}), 2.0);
+  EXPECT_TRUE(std::isinf(scan2cad::distance_outside_convex_polygon(P2(0, 0), {})));
+}
