@@ -131,8 +131,10 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   // Mass scaling is for slow (quasi-static) loading, where even a tenfold mass leaves the answer
   // alone; a dt_target in the wrong unit (µs read as ms) scales the mass by ~1e6 and turns the run
   // into a different, far slower-moving problem without a word.
-  const double physical_mass = s.total_mass() - s.added_mass();
-  if (s.added_mass() > 1000 * physical_mass)
+  // (not "added > 1000 physical": from dt_target ~1e154 the added mass is inf, and NaN results
+  // followed with exit 0)
+  const double physical_mass = s.physical_mass();
+  if (!(s.added_mass() <= 1000 * physical_mass))
     throw pipeline::bad_input(m.name, "control.dt_target " + fmt(m.control.dt_target) + " ms adds " +
                                           pipeline::format_number(s.added_mass() / physical_mass) +
                                           " times the model's mass by mass scaling, more than 1000: check its unit (ms)");
@@ -152,7 +154,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
                              std::to_string(m.contacts.size()) + " contact pair(s); stable dt " +
                              fmt(s.stable_dt()) + " ms, dt " + fmt(s.dt()) + " ms; mass " + fmt(s.total_mass()) +
                              " g, added by mass scaling " + fmt(s.added_mass()) + " g (" +
-                             fmt(100 * s.added_mass() / std::max(1e-300, s.total_mass() - s.added_mass())) +
+                             fmt(100 * s.added_mass() / std::max(1e-300, s.physical_mass())) +
                              " %); threads " + std::to_string(omp_get_max_threads()));
   // 2. Outputs being built.
   const fs::path dir(opt.out_dir);

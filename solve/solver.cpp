@@ -26,6 +26,7 @@ struct Solver::Impl {
   internal::Constraints con;
   std::vector<ContactPair> pairs;
   double time = 0, dt = 0, dt_stable = 0, added = 0;
+  double physical = 0;  // summed apart: total − added loses it when added is 1e15 times larger
   long step = 0;
   Energies en;  // time and kinetic of the last step, the rest of the last that requested them
   // Works of the steps done so far [mJ]: absorbed by contact and by damping, done by loads and
@@ -80,6 +81,7 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
       const double me = b.rho * b.vol[e];
       const double f = factor.empty() ? 1.0 : factor[e];
       s.added += me * (f - 1);
+      s.physical += me;
       for (int a = 0; a < b.nn; ++a) s.mass[b.conn[e * b.nn + a]] += me * f / b.nn;
       dt_min = std::min(dt_min, edt[e] * std::sqrt(f));
     }
@@ -270,6 +272,7 @@ double Solver::dt() const { return p_->dt; }
 long Solver::steps() const { return p_->step; }
 double Solver::stable_dt() const { return p_->dt_stable; }
 double Solver::added_mass() const { return p_->added; }
+double Solver::physical_mass() const { return p_->physical; }
 double Solver::total_mass() const { return std::accumulate(p_->mass.begin(), p_->mass.end(), 0.0); }
 const std::vector<double>& Solver::x() const { return p_->x; }
 const std::vector<double>& Solver::v() const { return p_->v; }

@@ -80,6 +80,7 @@ class Solver {
   long steps() const;
   double stable_dt() const;          ///< stable step from the elements (before dt_scale) [ms]
   double added_mass() const;         ///< mass added by mass scaling [g]
+  double physical_mass() const;      ///< the parts' own mass, without mass scaling [g]
   double total_mass() const;         ///< [g]
   const std::vector<double>& x() const;      ///< #nodes×3 current positions [mm]
   const std::vector<double>& v() const;      ///< #nodes×3 velocities v_{n−½} [mm/ms]

@@ -225,6 +225,16 @@ TEST(solve_cli, bad_deck_one_error_line_no_results) {
   EXPECT_NE(c.read("err.txt").find("bad5.json: control.dt_target 10 ms adds "), std::string::npos) << c.read("err.txt");
   EXPECT_NE(c.read("err.txt").find(" times the model's mass by mass scaling, more than 1000"), std::string::npos)
       << c.read("err.txt");
+  // From ~1e154 the scaled mass overflows to inf: the check compared NaN, and the run wrote NaN
+  // energies with exit 0.
+  std::string huge = deck(1.0);
+  huge.replace(huge.find("\"damping_alpha\""), 0, "\"dt_target\": 1e160, ");
+  c.write("bad6.json", huge);
+  EXPECT_EQ(c.solve("bad6.json", "out6"), 2);
+  EXPECT_FALSE(fs::exists(c.dir + "/out6"));
+  EXPECT_NE(c.read("err.txt").find("bad6.json: control.dt_target 1e+160 ms adds inf times the model's mass"),
+            std::string::npos)
+      << c.read("err.txt");
   EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
 }
 
