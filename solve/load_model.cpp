@@ -265,6 +265,8 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
     t.name = o.contains("name") ? str(d, o, "name", "ties[]") : t.group_a + "-" + t.group_b;
     require_known_keys(d, o, "ties[" + t.name + "]", {"group_a", "group_b", "name", "tolerance"});
     t.tolerance = num(d, o, "tolerance", "ties[" + t.name + "]", 0.01, false);
+    // (it searched each node's partner among the group's other nodes and named the same group twice)
+    if (t.group_a == t.group_b) throw d.bad("ties[" + t.name + "]: ties group '" + t.group_a + "' to itself");
     m.ties.push_back(t);
   }
   m.contacts.clear();

@@ -97,19 +97,35 @@ Constraints build_constraints(const Model& m, const std::vector<char>& rigid_nod
       c.free_nodes.push_back(int(i));
     }
   }
+  // One condition a dof: a later one replaced an earlier without a word, so a "fixed" rim that a
+  // prescribed velocity also reached moved, and of two prescribed motions the second won. Two
+  // fixes agree (bone parts fixed part by part are one rigid body).
+  const auto describe = [&](int k) {
+    const NodeBc& b = m.bcs[std::size_t(k)];
+    return b.kind == BcKind::fixed ? "fixed by fixed[" + b.group + "]"
+                                   : std::string(b.kind == BcKind::velocity ? "a velocity" : "a displacement") +
+                                         " by prescribed[" + b.group + "]";
+  };
+  const auto assign = [&](int& slot, int k, int id, int dof, const char* through) {
+    if (slot >= 0 && slot != k && !(m.bcs[std::size_t(slot)].kind == BcKind::fixed && m.bcs[std::size_t(k)].kind == BcKind::fixed))
+      throw pipeline::bad_input(m.name, "node " + std::to_string(m.node_tag(std::size_t(id))) + through + ": its " +
+                                            std::string(1, "xyz"[dof]) + " is " + describe(slot) + " and " + describe(k) +
+                                            ": a dof takes one condition");
+    slot = k;
+  };
   for (std::size_t k = 0; k < m.bcs.size(); ++k) {
     const NodeBc& b = m.bcs[k];
     for (int id : m.group(b.group)) {
       if (body_of[id] >= 0) {
         RigidBody& rb = c.bodies[body_of[id]];
-        rb.bc[b.dof] = int(k);
+        assign(rb.bc[b.dof], int(k), id, b.dof, " (of a rigid body)");
         rb.bc_node[b.dof] = id;
         rb.rotation_locked = true;
       } else if (tie_of[id] >= 0) {
-        c.ties[tie_of[id]].bc[b.dof] = int(k);
+        assign(c.ties[tie_of[id]].bc[b.dof], int(k), id, b.dof, " (of a tied set)");
         c.ties[tie_of[id]].bc_node[b.dof] = id;
       } else {
-        c.bc[3 * id + b.dof] = int(k);
+        assign(c.bc[3 * id + b.dof], int(k), id, b.dof, "");
       }
     }
   }

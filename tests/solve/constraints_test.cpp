@@ -195,3 +195,32 @@ TEST(membrane, uniaxial_tension_matches_svk) {
     EXPECT_NEAR(s.reaction("xmin")[0], -expected, 1e-4 * expected) << solve::element_name(t);
   }
 }
+
+// One condition a dof. A later condition replaced an earlier one without a word: a fixed face that
+// a prescribed velocity also reached moved, and of two prescribed motions the second won. Two
+// fixes of one dof agree and are accepted.
+TEST(constraints, a_dof_with_two_different_conditions_is_refused) {
+  const auto message = [](const std::vector<solve::NodeBc>& bcs) {
+    solve::Model m = column_part(0, "block");
+    m.name = "m.msh";
+    m.control.end_time = 1;
+    m.bcs = bcs;
+    try {
+      solve::Solver s(m);
+    } catch (const pipeline::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const solve::Curve up{{0, 1}, {0.1, 0.1}};
+  const solve::NodeBc fixed_z{"zmin", 2, solve::BcKind::fixed, {}}, fixed_z_side{"xmin", 2, solve::BcKind::fixed, {}};
+  EXPECT_EQ(message({fixed_z, fixed_z_side}), "no error");
+  const std::string both = message({fixed_z, {"zmin", 2, solve::BcKind::velocity, up}});
+  EXPECT_NE(both.find(": its z is fixed by fixed[zmin] and a velocity by prescribed[zmin]: a dof takes one condition"),
+            std::string::npos)
+      << both;
+  // an edge node shared by two faces
+  const std::string edge = message({fixed_z, {"xmin", 2, solve::BcKind::displacement, up}});
+  EXPECT_NE(edge.find("is fixed by fixed[zmin] and a displacement by prescribed[xmin]"), std::string::npos) << edge;
+  EXPECT_EQ(message({fixed_z, {"xmin", 0, solve::BcKind::velocity, up}}), "no error");  // another dof
+}

@@ -113,6 +113,8 @@ TEST(apply_deck, errors_name_the_key) {
                     R"("parts": [{"group": "block", "material": "m", "thick": 1}], )" + end + "}"),
             "d.json: parts[block].thick: unknown key");
   EXPECT_EQ(with(R"("contact": [{"slave": "zmax", "master": "zmin", "_note": "a comment"}], )" + end), "no error");
+  EXPECT_EQ(with(R"("ties": [{"group_a": "zmax", "group_b": "zmax"}], )" + end),
+            "d.json: ties[zmax-zmax]: ties group 'zmax' to itself");
 }
 
 // A contact's slave node without mass is named as outputs name it: by its tag, or by its 1-based
