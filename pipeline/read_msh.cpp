@@ -128,6 +128,7 @@ class MshText {
       if (s.name == "Elements" && version == "4.1") check_elements_41(s);
       if (s.name == "Nodes" && version.rfind("2.", 0) == 0) check_count_22(s, "nodes");
       if (s.name == "Elements" && version.rfind("2.", 0) == 0) check_elements_22(s);
+      if (s.name == "PhysicalNames") check_physical_names(s);
     }
   }
 
@@ -185,6 +186,26 @@ class MshText {
       for (long long e = 0; e < n; ++e) check_tags(++i, 1);
     }
     if (i + 1 != s.end) throw error(i + 1, "more lines in $Elements than its blocks declare");
+  }
+
+  // "n", then n lines '<dim> <tag> "<name>"' (2.x and 4.x). gmsh keeps one name per group, so a
+  // group named twice lost one name silently (the respirator's rim group read as its inner face).
+  void check_physical_names(const Section& s) const {
+    check_count_22(s, "physical names");
+    std::map<std::pair<long long, long long>, std::string> name_of;  // (dim, tag) → name
+    std::map<std::pair<long long, std::string>, long long> tag_of;     // (dim, name) → tag
+    for (std::size_t i = s.begin + 2; i < s.end; ++i) {
+      const auto w = words(lines_[i]);
+      if (w.size() < 3) throw error(i, "expected '<dim> <tag> \"<name>\"', got '" + shown(lines_[i]) + "'");
+      const long long dim = integer(w[0], i), tag = integer(w[1], i);
+      const std::string name(lines_[i].substr(std::size_t(w[2].data() - lines_[i].data())));
+      if (const auto [it, added] = name_of.emplace(std::make_pair(dim, tag), name); !added)
+        throw error(i, "physical group " + std::to_string(tag) + " of dimension " + std::to_string(dim) +
+                           " is named twice, " + it->second + " and " + name);
+      if (const auto [it, added] = tag_of.emplace(std::make_pair(dim, name), tag); !added)
+        throw error(i, "two physical groups of dimension " + std::to_string(dim) + " are named " + name + " (tags " +
+                           std::to_string(it->second) + " and " + std::to_string(tag) + ")");
+    }
   }
 
   // 2.x: "n", then n lines.

@@ -8,13 +8,15 @@
 ///         group in gmsh's order with its elements, one block per entity and element type, as
 ///         0-based indices into the nodes.
 /// Throws pipeline::Error(bad_input) naming the file when it is missing, a directory, empty, does
-/// not start with $MeshFormat (gmsh would run it as a .geo script), is unreadable by gmsh, is an
-/// ASCII file with a section not closed (gmsh skips the rest of the file silently), or, in ASCII
-/// 2.x and 4.1 (what the stages and gmsh write), a block count its section cannot hold or an
-/// element tag that is not a positive integer, one element a line (libgmsh aborts or crashes on
-/// these), has no nodes, or has a node with a NaN or infinite coordinate or an element
-/// on a node it lacks. Whether groups must exist, be named or hold one element type is
-/// the caller's rule.
+/// not start with $MeshFormat (gmsh would run it as a .geo script), is unreadable by gmsh, has no
+/// nodes, or has a node with a NaN or infinite coordinate or an element on a node it lacks; and,
+/// in an ASCII file (what the stages and gmsh write), when a section is not closed (gmsh skips
+/// the rest of the file silently), a physical group is named twice or one name is given to two
+/// groups of one dimension (gmsh keeps one name a group, stages find groups by name; gmsh and
+/// meshio write neither, in binary files
+/// either), or, in 2.x and 4.1, a block count its section cannot hold or an element tag that is
+/// not a positive integer, one element a line (libgmsh aborts or crashes on these). Whether
+/// groups must exist, be named or hold one element type is the caller's rule.
 ///
 /// Shared by layering (read_fe_model) and solve (read_msh): gmsh reads every .msh version,
 /// which a hand-written reader would have to re-implement, and one reader checks the nodes once.
