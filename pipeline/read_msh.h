@@ -13,10 +13,10 @@
 /// in an ASCII file (what the stages and gmsh write), when a section is not closed (gmsh skips
 /// the rest of the file silently), a physical group is named twice or one name is given to two
 /// groups of one dimension (gmsh keeps one name a group, stages find groups by name; gmsh and
-/// meshio write neither, in binary files
-/// either), or, in 2.x and 4.1, a block count its section cannot hold or an element tag that is
-/// not a positive integer, one element a line (libgmsh aborts or crashes on these). Whether
-/// groups must exist, be named or hold one element type is the caller's rule.
+/// meshio write neither, in binary files either), or, in 2.x and 4.1, a block count its section
+/// cannot hold or an element tag that is not a positive integer, one element a line (libgmsh
+/// aborts or crashes on these). Whether groups must exist, be named or hold one element type is
+/// the caller's rule.
 ///
 /// Shared by layering (read_fe_model) and solve (read_msh): gmsh reads every .msh version,
 /// which a hand-written reader would have to re-implement, and one reader checks the nodes once.
