@@ -48,7 +48,10 @@ void write_fe_model(const FeModel& model, const std::string& path);
 using Stack = std::vector<std::pair<std::string, double>>;
 
 /// Reads data/materials.json: head_layers_mm (kind "head") or respirator_layers_mm ("respirator",
-/// returned under the part name "respirator_inner"). @throws Error(bad_input) naming the file.
+/// returned under the part name "respirator_inner"). @throws Error(bad_input) naming the file for
+/// a layer that is not [known material, 0.1..50 mm], more than 10 layers, a material twice in a
+/// stack, a stack for back_of_head (a rigid shell), or a head stack whose innermost layer is not
+/// rigid or that has a rigid layer above it.
 std::map<std::string, Stack> read_stacks(const std::string& materials_json, const std::string& kind);
 
 /// Checks that the surface's parts and the stacks match one to one: every part with a stack is a

@@ -114,15 +114,40 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
       const std::string mat = l[0];
       if (!j.contains("materials") || !j["materials"].contains(mat))
         throw pipeline::bad_input(materials_json, where + ": material '" + mat + "' not in \"materials\"");
+      // a layer's groups are named <part>_<material>: a material twice in one stack left one
+      // layer unnamed and a bone-less "<part>_bone_inner" surface, with exit 0
+      for (const auto& [earlier, mm] : s)
+        if (earlier == mat) throw pipeline::bad_input(materials_json, where + ": material '" + mat + "' twice in one stack");
       s.emplace_back(mat, l[1].get<double>());
     }
     return s;
   };
+  const auto rigid = [&](const std::string& mat) {
+    const auto& m = j["materials"][mat];
+    return m.is_object() && m.contains("rigid") && m["rigid"].is_boolean() && m["rigid"].get<bool>();
+  };
   std::map<std::string, Stack> out;
   if (kind == "head") {
     if (!j.contains("head_layers_mm")) throw pipeline::bad_input(materials_json, "no \"head_layers_mm\"");
-    for (auto& [part, a] : j["head_layers_mm"].items())
-      if (part[0] != '_') out[part] = parse_stack(a, "head_layers_mm." + part);
+    for (auto& [part, a] : j["head_layers_mm"].items()) {
+      if (part[0] == '_') continue;
+      const std::string where = "head_layers_mm." + part;
+      // the back of the head is one rigid shell (the skull under little tissue); a stack there
+      // made 22,913 wedges that no deck fixed
+      if (part == "back_of_head")
+        throw pipeline::bad_input(materials_json, where + ": the back of the head is a rigid shell and takes no stack");
+      out[part] = parse_stack(a, where);
+      // The face's tissue rests on bone: the decks fix the rigid innermost layer. Without one the
+      // tissue floated; with a rigid layer above soft ones the bone lay on the skin.
+      const Stack& stack = out[part];
+      if (!rigid(stack.back().first))
+        throw pipeline::bad_input(materials_json, where + ": the innermost layer, '" + stack.back().first +
+                                                      "', is not rigid: a face part's tissue rests on bone");
+      for (std::size_t i = 0; i + 1 < stack.size(); ++i)
+        if (rigid(stack[i].first))
+          throw pipeline::bad_input(materials_json, where + ": '" + stack[i].first +
+                                                        "' is rigid but not the innermost layer (layers go from the skin inward)");
+    }
   } else if (kind == "respirator") {
     if (!j.contains("respirator_layers_mm")) throw pipeline::bad_input(materials_json, "no \"respirator_layers_mm\"");
     out["respirator_inner"] = parse_stack(j["respirator_layers_mm"], "respirator_layers_mm");

@@ -317,16 +317,52 @@ TEST(read_stacks, rejects_absurd_layer_thicknesses) {
     const std::string message = bad_input_message([&] { layering::read_stacks(path.string(), "head"); }, path);
     EXPECT_EQ(message.rfind("head_layers_mm.forehead: bad layer", 0), 0u) << mm << " mm: " << message;
   }
-  // 1000 layers of 0.01 mm ran out of memory; ten 0.1 mm layers are allowed
+  // 1000 layers of 0.01 mm ran out of memory; ten 0.1 mm layers are allowed (each of its own
+  // material, soft ones on bone)
   for (const std::size_t n : {10u, 11u}) {
     nlohmann::json stack = good;
     stack["head_layers_mm"]["forehead"] = nlohmann::json::array();
-    for (std::size_t k = 0; k < n; ++k) stack["head_layers_mm"]["forehead"].push_back({"skin", 0.1});
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+      const std::string name = "tissue" + std::to_string(k);
+      stack["materials"][name] = good["materials"]["skin"];
+      stack["head_layers_mm"]["forehead"].push_back({name, 0.1});
+    }
+    stack["head_layers_mm"]["forehead"].push_back({"bone", 0.1});
     pipeline::write_text_atomic(path.string(), stack.dump());
     EXPECT_EQ(bad_input_message([&] { layering::read_stacks(path.string(), "head"); }, path),
               n == 10 ? "no error" : "head_layers_mm.forehead: 11 layers, expected at most 10");
   }
   EXPECT_NO_THROW(layering::read_stacks(kMaterials, "head"));
+}
+
+// Stacks that make no model: a material twice (its layer's group left unnamed, exit 0), a face part
+// without bone under it or with the bone above soft tissue, and a stack for the rigid back of the
+// head (22,913 wedges no deck fixed) all passed layers and assemble.
+TEST(read_stacks, refuses_a_material_twice_no_bone_innermost_and_a_back_of_head_stack) {
+  const nlohmann::json good = nlohmann::json::parse(pipeline::read_text(kMaterials));
+  const std::filesystem::path path = scratch_dir() / "read_stacks_order.json";
+  const auto message = [&](const std::string& part, const nlohmann::json& stack, const std::string& kind = "head") {
+    nlohmann::json edited = good;
+    (kind == "head" ? edited["head_layers_mm"][part] : edited["respirator_layers_mm"]) = stack;
+    pipeline::write_text_atomic(path.string(), edited.dump());
+    return bad_input_message([&] { layering::read_stacks(path.string(), kind); }, path);
+  };
+  using J = nlohmann::json;
+  EXPECT_EQ(message("forehead", J::parse(R"([["skin", 5], ["skin", 2], ["bone", 2]])")),
+            "head_layers_mm.forehead: material 'skin' twice in one stack");
+  EXPECT_EQ(message("chin", J::parse(R"([["skin", 3], ["bone", 2], ["bone", 2]])")),
+            "head_layers_mm.chin: material 'bone' twice in one stack");
+  EXPECT_EQ(message("forehead", J::parse(R"([["skin", 5], ["fat", 2]])")),
+            "head_layers_mm.forehead: the innermost layer, 'fat', is not rigid: a face part's tissue rests on bone");
+  EXPECT_EQ(message("forehead", J::parse(R"([["bone", 2], ["skin", 5], ["back_of_head", 1]])")),
+            "head_layers_mm.forehead: 'bone' is rigid but not the innermost layer (layers go from the skin inward)");
+  EXPECT_EQ(message("back_of_head", J::parse(R"([["skin", 3], ["bone", 2]])")),
+            "head_layers_mm.back_of_head: the back of the head is a rigid shell and takes no stack");
+  EXPECT_EQ(message("forehead", J::parse(R"([["skin", 4], ["muscle", 2], ["bone", 2]])")), "no error");
+  // a respirator has no bone: its soft layers stand alone
+  EXPECT_EQ(message("", J::parse(R"([["seal_layer", 1], ["outer_layer", 2]])"), "respirator"), "no error");
+  EXPECT_EQ(message("", J::parse(R"([["seal_layer", 1], ["seal_layer", 2]])"), "respirator"),
+            "respirator_layers_mm: material 'seal_layer' twice in one stack");
 }
 
 // An edited surface: a duplicated triangle was layered as coincident wedges, a triangle with a
