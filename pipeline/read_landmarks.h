@@ -35,8 +35,9 @@ const std::vector<std::string>& head_landmark_names();
 ///         that is not three finite numbers; an unknown key in a landmark; a confidence that is
 ///         not a number in [0, 1]; a required name missing; a "*_left" landmark at x <= 0 or a
 ///         "*_right" one at x >= 0 (a mirrored head, or one not in align's frame); a menton less
-///         than 30 mm below the sellion (a head not y-up, or the two swapped) or a pronasale not
-///         between them in y.
+///         than 30 mm below the sellion (a head not y-up, or the two swapped), a pronasale not
+///         between them in y, or a gonion less than 20 mm below the tragion of its side (on the
+///         NIOSH and generated heads it is 51-73 mm below).
 std::map<std::string, Landmark> read_landmarks(const std::string& path, const std::vector<std::string>& required);
 
 }  // namespace pipeline

@@ -118,13 +118,14 @@ TEST(guessed_landmarks, the_sellion_of_a_sphere_but_nothing_on_the_niosh_heads) 
 
 namespace {
 // Every required landmark, the left ones at x = 50, the right ones at x = -50, the rest at x = 0;
-// sellion at y = 40, pronasale at 0, menton at -70 (the profile read_landmarks checks), the sided
-// ones at 0: what read_landmarks accepts, for a test to break one thing of.
+// sellion at y = 40, pronasale at 0, menton at -70 (the profile read_landmarks checks), the gonia
+// at -40 (below the tragia), the other sided ones at 0: what read_landmarks accepts, for a test to
+// break one thing of.
 scan2cad::Landmarks sided_landmarks(double confidence) {
   scan2cad::Landmarks l;
   for (const auto& n : scan2cad::required_landmarks()) {
     const double x = n.find("_left") != std::string::npos ? 50 : n.find("_right") != std::string::npos ? -50 : 0;
-    const double y = n == "sellion" ? 40 : n == "menton" ? -70 : 0;
+    const double y = n == "sellion" ? 40 : n == "menton" ? -70 : n.rfind("gonion", 0) == 0 ? -40 : 0;
     l.points[n] = {Eigen::Vector3d(x, y, 0), confidence};
   }
   return l;

@@ -13,13 +13,17 @@
 namespace {
 
 // The nine landmarks of a head, left ones at x = 60, right ones at x = -60, the midline at x = 0;
-// sellion at y = 40, pronasale at 0, menton at -70, the others at 10.
+// sellion at y = 40, pronasale at 0, menton at -70, the gonia at -40, the others at 10.
 nlohmann::json nine_landmarks() {
   nlohmann::json j;
   j["source"] = "user";
   for (const auto& name : pipeline::head_landmark_names()) {
     const double x = name.find("_left") != std::string::npos ? 60 : name.find("_right") != std::string::npos ? -60 : 0;
-    const double y = name == "sellion" ? 40 : name == "pronasale" ? 0 : name == "menton" ? -70 : 10;
+    const double y = name == "sellion"                  ? 40
+                     : name == "pronasale"              ? 0
+                     : name == "menton"                 ? -70
+                     : name.rfind("gonion", 0) == 0     ? -40
+                                                        : 10;
     j["landmarks"][name] = {{"position", {x, y, 80.0}}, {"confidence", 0.8}};
   }
   return j;
@@ -131,6 +135,12 @@ TEST(read_landmarks, refuses_a_profile_out_of_order_in_y) {
   EXPECT_EQ(message_for(swapped), "menton y 40 not at least 30 mm below sellion y -70: is the head aligned (y up)?");
   EXPECT_EQ(message_for(with_y("pronasale", 45)), "pronasale y 45 not between menton and sellion: are the landmarks swapped?");
   EXPECT_EQ(message_for(with_y("pronasale", -80)), "pronasale y -80 not between menton and sellion: are the landmarks swapped?");
+  // a side's tragion and gonion swapped by hand (segment cut cheeks 30 % smaller, exit 0)
+  nlohmann::json ear_and_jaw = nine_landmarks();
+  std::swap(ear_and_jaw["landmarks"]["tragion_left"], ear_and_jaw["landmarks"]["gonion_left"]);
+  EXPECT_EQ(message_for(ear_and_jaw), "gonion_left y 10 not at least 20 mm below tragion_left y -40: are the landmarks swapped?");
+  EXPECT_EQ(message_for(with_y("gonion_right", -5)),
+            "gonion_right y -5 not at least 20 mm below tragion_right y 10: are the landmarks swapped?");
   // only what the file has is compared (straps and assemble need only sellion and menton)
   nlohmann::json two;
   two["landmarks"]["sellion"] = {{"position", {0, 40, 80}}};
