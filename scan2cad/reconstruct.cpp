@@ -74,6 +74,8 @@ constexpr double min_share_of_normals_along_surface = 0.8;
 // NIOSH heads with 2 mm of noise fell to 0.45 (0.99 with 0.3 mm).
 constexpr unsigned surface_check_neighbors = 128;
 constexpr double surface_check_min_quality = 0.5, min_share_of_points_on_a_surface = 0.5;
+// The largest share of the points the normal orientation may leave unreached (see its use).
+constexpr double max_unreached_share = 0.1;
 
 // Standard deviations [mm] of the points along their three principal axes, smallest first.
 Eigen::Vector3d principal_spreads_mm(const std::vector<PN>& points) {
@@ -692,7 +694,17 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     clock.start("normal orientation (minimum spanning tree)");
     // points the tree cannot reach are dropped: their normal would be a coin toss
     std::vector<std::size_t> reached;
-    internal::orient_normals(pn, k, opt.orientation_crossing_weight, keep_unsmoothed ? &reached : nullptr);
+    const std::size_t before_orientation = pn.size();
+    const std::size_t unreached =
+        internal::orient_normals(pn, k, opt.orientation_crossing_weight, keep_unsmoothed ? &reached : nullptr);
+    // The tree reaches one connected piece: of two heads 400 mm apart one was meshed and the other
+    // dropped without a word. Stray clusters the outlier removal left are a few points.
+    if (double(unreached) > max_unreached_share * double(before_orientation))
+      throw pipeline::bad_input("point cloud", std::to_string(int(std::lround(100.0 * double(unreached) /
+                                                                             double(before_orientation)))) +
+                                                   " % of the points are apart from the rest (not within " +
+                                                   std::to_string(k) + " neighbours of it): two objects, or a scan "
+                                                   "in pieces? reconstruct meshes one connected surface");
     st.normals_estimated = true;
     if (keep_unsmoothed) {
       for (std::size_t i = 0; i < reached.size(); ++i) unsmoothed[i] = unsmoothed[reached[i]];

@@ -96,7 +96,13 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   // Checked before any work, on the input's area (the hole fills add little).
   pipeline::require_affordable_edge("--edge", opt.target_edge_mm, mesh, max_remeshed_triangles);
 
-  // 2. Small components.
+  // 2. Small components. A large second piece is no scanner debris: a 4 mm gap across the NIOSH
+  //    head cut off its face (36 % of the faces), and repair kept the back of the head and closed
+  //    it with exit 0; of two heads one was kept.
+  if (const auto [second_share, pieces] = internal::second_component_area_share(mesh); second_share > max_second_component_share)
+    throw pipeline::bad_input("mesh", "the surface is in " + std::to_string(pieces) + " pieces, and the second largest holds " +
+                                          std::to_string(int(std::lround(100 * second_share))) +
+                                          " % of the area: a scan cut in two, or two objects? repair keeps one piece");
   std::tie(r.components_removed, r.component_faces_removed) = internal::keep_largest_component(mesh);
 
   // 3. Spikes.

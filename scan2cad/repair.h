@@ -7,7 +7,9 @@
 ///  1. soup → mesh: CGAL repair_polygon_soup (duplicate points, degenerate and duplicate
 ///     polygons), orient_polygon_soup (non-manifold vertices are split),
 ///     polygon_soup_to_polygon_mesh; then remove_degenerate_faces;
-///  2. small disconnected components are removed (the largest one is kept);
+///  2. small disconnected components are removed (the largest one is kept); a second piece of
+///     more than max_second_component_share of the area is bad input (a scan cut in two, two
+///     objects), not debris;
 ///  3. spikes: a vertex farther from the plane of its one-ring than `spike_factor` × the mean
 ///     radius is moved onto the one-ring centroid (no library does this; see cleanup.cpp);
 ///  4. self-intersecting faces are deleted (their holes are filled in step 5);
@@ -35,6 +37,10 @@ namespace scan2cad {
 /// The most triangles the remeshing may make: ~60 times a head at the default 1.5 mm edge
 /// (NIOSH medium, 167,890 mm²: ~170,000), several GB and minutes of remeshing.
 constexpr double max_remeshed_triangles = 1e7;
+
+/// The largest area share a removed component may have: scanner debris is well under 1 %; a
+/// head cut in two by a 4 mm gap across the face had 36 % in its second piece, two heads 50 %.
+constexpr double max_second_component_share = 0.1;
 
 struct RepairOptions {
   /// target edge length of the isotropic remeshing [mm]; default 1.5, 0 = no remeshing; an edge

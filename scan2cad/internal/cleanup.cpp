@@ -3,13 +3,16 @@
 
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <set>
 #include <vector>
 
@@ -101,6 +104,21 @@ std::size_t remove_self_intersecting_faces(SurfaceMesh& mesh) {
   PMP::duplicate_non_manifold_vertices(mesh);
   keep_largest_component(mesh);
   return cut.size();
+}
+
+std::pair<double, std::size_t> second_component_area_share(const SurfaceMesh& mesh) {
+  std::vector<std::size_t> component(mesh.num_faces());  // by face index (the mesh is const)
+  const std::size_t n = PMP::connected_components(mesh, CGAL::make_property_map(component));
+  std::vector<double> area_mm2(n, 0.0);
+  double total_mm2 = 0;
+  for (auto f : mesh.faces()) {
+    const double a = PMP::face_area(f, mesh);
+    area_mm2[component[f]] += a;
+    total_mm2 += a;
+  }
+  if (n < 2 || !(total_mm2 > 0)) return {0.0, n};
+  std::partial_sort(area_mm2.begin(), area_mm2.begin() + 2, area_mm2.end(), std::greater<>());
+  return {area_mm2[1] / total_mm2, n};
 }
 
 std::pair<std::size_t, std::size_t> keep_largest_component(SurfaceMesh& mesh) {

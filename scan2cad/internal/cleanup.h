@@ -26,6 +26,10 @@ std::size_t count_self_intersecting_faces(const pipeline::SurfaceMesh& mesh);
 /// keeps the largest component. @return the number of faces deleted.
 std::size_t remove_self_intersecting_faces(pipeline::SurfaceMesh& mesh);
 
+/// The area of the second largest connected component (by area) as a share of the whole
+/// surface's, and the number of components. @return {share in [0, 0.5], components}.
+std::pair<double, std::size_t> second_component_area_share(const pipeline::SurfaceMesh& mesh);
+
 /// Keeps the largest connected component. @return {components removed, faces removed}.
 std::pair<std::size_t, std::size_t> keep_largest_component(pipeline::SurfaceMesh& mesh);
 

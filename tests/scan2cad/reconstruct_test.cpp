@@ -57,6 +57,21 @@ TEST(reconstruct, poisson_gives_a_closed_outward_sphere_within_the_noise) {
   EXPECT_NEAR(vol, 4.0 / 3.0 * std::acos(-1.0) * 125000.0, 0.02 * 523599.0);
 }
 
+// Two objects 300 mm apart: the normal orientation's tree reaches one, and the other was dropped
+// without a word (two heads: one meshed, exit 0). A tenth of the points apart is refused.
+TEST(reconstruct, two_objects_apart_are_refused) {
+  auto cloud = noisy_sphere(50, 20000, 0.2, 0);
+  const std::size_t n = cloud.points.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = cloud.points[i];
+    cloud.points.emplace_back(p.x() + 300, p.y(), p.z());
+  }
+  scan2cad::ReconstructOptions opt;
+  opt.method = scan2cad::ReconstructMethod::advancing_front;  // the check comes before the meshing
+  const std::string message = bad_input_message([&] { scan2cad::reconstruct(cloud, scan2cad::ScanKind::head, opt); });
+  EXPECT_NE(message.find("50 % of the points are apart from the rest"), std::string::npos) << message;
+}
+
 // Normals on every other point only (the rest read as zero vectors): they all are estimated, and
 // the sphere comes out as without normals, not as Poisson made it with the zero ones.
 TEST(reconstruct, normals_on_some_points_only_are_all_estimated) {

@@ -79,6 +79,45 @@ TEST(repair, smoothing_that_shrinks_the_surface_is_refused) {
   EXPECT_NO_THROW(scan2cad::repair(s, scan2cad::ScanKind::respirator, defaults));
 }
 
+// A large second piece is not debris: two spheres, or one cut in two by a band of missing faces
+// (a 4 mm gap across the NIOSH face made repair keep the back of the head, exit 0), are refused;
+// a piece of under a tenth of the area is removed as debris.
+TEST(repair, a_surface_in_two_large_pieces_is_refused) {
+  const auto two_spheres = [](double r2) {
+    auto s = test_meshes::sphere_soup(50, 40);
+    const auto t = test_meshes::sphere_soup(r2, 40);
+    const std::size_t n = s.points.size();
+    for (const auto& p : t.points) s.points.emplace_back(p.x() + 300, p.y(), p.z());
+    for (auto poly : t.polygons) {
+      for (auto& v : poly) v += n;
+      s.polygons.push_back(poly);
+    }
+    return s;
+  };
+  scan2cad::RepairOptions opt;
+  opt.target_edge_mm = 3.0;
+  EXPECT_EQ(bad_input_message([&] { scan2cad::repair(two_spheres(50), scan2cad::ScanKind::head, opt); }),
+            "mesh: the surface is in 2 pieces, and the second largest holds 50 % of the area: a scan cut in two, or "
+            "two objects? repair keeps one piece");
+  EXPECT_NE(bad_input_message([&] { scan2cad::repair(two_spheres(35), scan2cad::ScanKind::head, opt); })
+                .find("the second largest holds 33 % of the area"),
+            std::string::npos);  // 35² / (50² + 35²)
+  scan2cad::RepairReport rep;  // a sphere of radius 15: 8 % of the area
+  EXPECT_NO_THROW(scan2cad::repair(two_spheres(15), scan2cad::ScanKind::head, opt, &rep));
+  EXPECT_EQ(rep.components_removed, 1u);
+  // a band of faces around the equator removed: two half spheres
+  auto cut = test_meshes::sphere_soup(50, 40);
+  std::vector<std::vector<std::size_t>> kept;
+  for (const auto& poly : cut.polygons) {
+    double z = 0;
+    for (auto v : poly) z += cut.points[v].z() / double(poly.size());
+    if (std::abs(z) > 3) kept.push_back(poly);
+  }
+  cut.polygons = kept;
+  EXPECT_NE(bad_input_message([&] { scan2cad::repair(cut, scan2cad::ScanKind::head, opt); }).find("in 2 pieces"),
+            std::string::npos);
+}
+
 TEST(repair, soup_without_faces_is_bad_input) {
   pipeline::PolygonSoup s;
   s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
