@@ -28,7 +28,9 @@ struct Scan {
 /// @param[in] opt   unit handling
 /// @return the scan in mm
 /// @throws Error(bad_input) naming `path` if the file is missing, empty, truncated, not of its
-///         format, has non-finite coordinates, no points, or a size no unit explains.
+///         format, holds more than its PLY or OFF header declares (a lowered count was read as
+///         fewer points or faces), has non-finite coordinates, no points, or a size no unit
+///         explains.
 Scan read_scan(const std::string& path, const ScanReadOptions& opt = {});
 
 /// Reads a polygon mesh that a previous stage wrote (mm, no unit guessing) into a Surface_mesh,

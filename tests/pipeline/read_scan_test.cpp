@@ -107,6 +107,16 @@ TEST(read_scan, data_beyond_the_counts_of_the_header_is_refused) {
   pipeline::ScanReadOptions mm;
   mm.unit = pipeline::Unit::mm;
   EXPECT_EQ(pipeline::read_scan(scratch_file("blank_tail.ply", ascii + "\n  \n"), mm).soup.polygons.size(), 1u);
+
+  // the same in an OFF: a face count lowered to 10,000 of NIOSH's 20,146 faces, and repair made a
+  // 100 mm blob of what was read, with exit 0
+  const std::string off = "OFF\n4 2 0\n0 0 0\n100 0 0\n0 100 0\n100 100 0\n3 0 1 2\n3 1 3 2\n";
+  EXPECT_EQ(pipeline::read_scan(scratch_file("two.off", off + "\n"), mm).soup.polygons.size(), 2u);
+  std::string one = off;
+  const std::string low_off = scratch_file("lowered.off", one.replace(one.find("4 2 0"), 5, "4 1 0"));
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(low_off, mm); }),
+            low_off + ": 8 bytes after the elements its header declares: a count in the header is too small, or data "
+                      "was appended (damaged or hand-edited file?)");
 }
 
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
