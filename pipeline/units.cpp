@@ -119,6 +119,9 @@ std::string why_material_unusable(double density_g_mm3, double E_MPa, double nu)
            ", " + format_number(max_density_g_mm3) + "], the range of solids and foams: give it in g/mm³ " +
            "(1 g/cm³ = 1e-3 g/mm³)";
   if (!(E_MPa > 0) || !std::isfinite(E_MPa)) return "E must be > 0 and finite [MPa]";
+  if (E_MPa > max_E_MPa)
+    return "E " + format_number(E_MPa) + " MPa is stiffer than any solid (at most " + format_number(max_E_MPa) +
+           "): give it in MPa";
   if (!(nu >= 0 && nu < 0.5)) return "nu must be in [0, 0.5)";
   return "";
 }

@@ -92,8 +92,17 @@ void require_mm(const std::string& path, double extent_mm, const std::string& ki
 inline constexpr double min_density_g_mm3 = 1e-6;  // 1 kg/m³, lighter than any foam
 inline constexpr double max_density_g_mm3 = 0.1;   // 100 g/cm³, four times osmium
 
+/// The stiffest a material may be [MPa]: twice diamond's 1.05e6. E 1e300 went through assemble
+/// and made solve ask for 9e153 steps; bone is 1e3, a bone E given in Pa 1e9.
+inline constexpr double max_E_MPa = 2e6;
+
+/// The strongest mass-proportional damping alpha (c = alpha m) [1/ms]: the decks use 0.5; above
+/// 1000 a velocity dies within a microsecond and the run stands still (1e12 ran with exit 0).
+/// Shared by assemble (data/materials.json's damping) and solve (control.damping_alpha).
+inline constexpr double max_damping_alpha_per_ms = 1000;
+
 /// Why a material cannot be used, or "" when it can: density within the bounds above, E > 0
-/// and finite [MPa], nu in [0, 0.5). Shared by assemble (data/materials.json) and solve (its
+/// and at most max_E_MPa, nu in [0, 0.5). Shared by assemble (data/materials.json) and solve (its
 /// deck), so a unit slip stops at the first stage that reads it.
 std::string why_material_unusable(double density_g_mm3, double E_MPa, double nu);
 

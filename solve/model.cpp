@@ -127,9 +127,9 @@ void check_model(const Model& m) {
       if (!has_mass[id]) throw bad("contact '" + c.name + "': slave node " + std::to_string(m.node_tag(std::size_t(id))) + " belongs to no part (no mass)");
   const Control& c = m.control;
   if (!(c.end_time > 0)) throw bad("control.end_time must be > 0");
-  // Mass-proportional damping [1/ms]: the decks use 0.5; above 1000 a velocity dies within a
-  // microsecond and the run stands still (1e12 and 1e300 ran with exit 0).
-  if (!(c.damping_alpha >= 0 && c.damping_alpha <= 1000)) throw bad("control.damping_alpha must be in [0, 1000] [1/ms]");
+  if (!(c.damping_alpha >= 0 && c.damping_alpha <= pipeline::max_damping_alpha_per_ms))
+    throw bad("control.damping_alpha must be in [0, " + pipeline::format_number(pipeline::max_damping_alpha_per_ms) +
+              "] [1/ms]");
   if (!(c.dt_scale > 0 && c.dt_scale <= 1)) throw bad("control.dt_scale must be in (0, 1]");
   if (!(c.dt_target >= 0)) throw bad("control.dt_target must be >= 0");
   if (c.dt_update_interval < 1) throw bad("control.dt_update_interval must be >= 1");

@@ -87,7 +87,7 @@ namespace {
 // `mat[section][key]` of data/materials.json, or `fallback` when the file has neither; a value
 // that is there must be a number `valid` accepts.
 double optional_setting(const nlohmann::json& mat, const char* section, const char* key, double fallback,
-                        bool (*valid)(double), const char* expected) {
+                        bool (*valid)(double), const std::string& expected) {
   if (!mat.contains(section)) return fallback;
   const auto& s = mat[section];
   if (!s.is_object()) throw pipeline::bad_input(section, "expected an object");
@@ -97,7 +97,7 @@ double optional_setting(const nlohmann::json& mat, const char* section, const ch
   if (!s.contains(key)) return fallback;
   const auto& v = s[key];
   if (!v.is_number() || !valid(v.get<double>()))
-    throw pipeline::bad_input(std::string(section) + "." + key, std::string("expected ") + expected);
+    throw pipeline::bad_input(std::string(section) + "." + key, "expected " + expected);
   return v.get<double>();
 }
 
@@ -105,8 +105,9 @@ double optional_setting(const nlohmann::json& mat, const char* section, const ch
 
 double stage1_damping_alpha(const nlohmann::json& mat) {
   return optional_setting(
-      mat, "damping", "stage1_alpha_per_ms", 0.5, [](double a) { return std::isfinite(a) && a >= 0; },
-      "a number >= 0 [1/ms]");
+      mat, "damping", "stage1_alpha_per_ms", 0.5,
+      [](double a) { return a >= 0 && a <= pipeline::max_damping_alpha_per_ms; },
+      "a number in [0, " + pipeline::format_number(pipeline::max_damping_alpha_per_ms) + "] [1/ms], as solve takes it");
 }
 
 double contact_penalty_scale(const nlohmann::json& mat) {

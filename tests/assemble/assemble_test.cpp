@@ -389,7 +389,11 @@ TEST(deck_settings, penalty_scale_and_damping_from_the_file_or_their_defaults) {
   EXPECT_EQ(message_of("contact", "penalty_scale", 2), scale_range);
   EXPECT_EQ(message_of("contact", "penalty_scale", "0.1"), scale_range);
   EXPECT_EQ(message_of("contact", "penalty_scale", 0.25), "no error");
-  EXPECT_EQ(message_of("damping", "stage1_alpha_per_ms", -1), "damping.stage1_alpha_per_ms: expected a number >= 0 [1/ms]");
+  const std::string alpha_range = "damping.stage1_alpha_per_ms: expected a number in [0, 1000] [1/ms], as solve takes it";
+  EXPECT_EQ(message_of("damping", "stage1_alpha_per_ms", -1), alpha_range);
+  // solve refuses above 1000; assemble wrote it into the decks with exit 0
+  EXPECT_EQ(message_of("damping", "stage1_alpha_per_ms", 1e6), alpha_range);
+  EXPECT_EQ(message_of("damping", "stage1_alpha_per_ms", 1000), "no error");
   nlohmann::json not_object = good;
   not_object["contact"] = 0.1;
   EXPECT_EQ(bad_input_message([&] { meshing::contact_penalty_scale(not_object); }), "contact: expected an object");
@@ -417,6 +421,8 @@ TEST(deck_materials, copies_the_materials_and_names_a_bad_entry) {
   EXPECT_EQ(message_of("nu", nullptr), "materials.skin.nu: expected a number");
   EXPECT_EQ(message_of("nu", 0.7), "materials.skin: nu must be in [0, 0.5)");
   EXPECT_EQ(message_of("E", -1), "materials.skin: E must be > 0 and finite [MPa]");
+  // went into the decks, and solve asked for 9e153 steps
+  EXPECT_EQ(message_of("E", 1e300), "materials.skin: E 1e+300 MPa is stiffer than any solid (at most 2e+06): give it in MPa");
   EXPECT_EQ(message_of("rigid", "yes"), "materials.skin.rigid: expected true or false");
   EXPECT_EQ(message_of("density", 1200).rfind("materials.skin: density 1200 g/mm³ is outside", 0), 0u);
   // A misspelt optional key was read as absent: "rigd": true put a soft bone into the decks. The

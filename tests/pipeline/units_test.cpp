@@ -113,6 +113,8 @@ TEST(why_material_unusable, accepts_the_paper_materials_and_names_a_unit_slip) {
   EXPECT_EQ(pipeline::why_material_unusable(1e-3, std::numeric_limits<double>::infinity(), 0.45),
             "E must be > 0 and finite [MPa]");
   EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0, 0.45), "E must be > 0 and finite [MPa]");
+  EXPECT_EQ(pipeline::why_material_unusable(1e-3, 1e9, 0.3), "E 1e+09 MPa is stiffer than any solid (at most 2e+06): give it in MPa");
+  EXPECT_EQ(pipeline::why_material_unusable(4.5e-3, 2e5, 0.3), "");  // steel
   EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0.6, 0.5), "nu must be in [0, 0.5)");
   EXPECT_EQ(pipeline::why_material_unusable(1e-3, 0.6, -0.1), "nu must be in [0, 0.5)");
 }
