@@ -3,6 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pipeline/error.h"
+
 namespace scan2cad {
 
 const std::vector<std::string>& required_landmarks() { return pipeline::head_landmark_names(); }
@@ -18,6 +20,20 @@ std::vector<std::string> guessed_landmarks(const Landmarks& l, double below) {
   for (const auto& [name, p] : l.points)
     if (p.confidence < below) guessed.push_back(name);
   return guessed;
+}
+
+void require_adult_face(const Landmarks& l, const std::string& path) {
+  const double length_mm = face_length(l), width_mm = face_width(l);
+  if (length_mm >= min_face_length_mm && length_mm <= max_face_length_mm && width_mm >= min_face_width_mm &&
+      width_mm <= max_face_width_mm)
+    return;
+  throw pipeline::bad_input(path, "face length " + pipeline::format_number(length_mm) + " mm and width " +
+                                      pipeline::format_number(width_mm) + " mm, outside any adult's (" +
+                                      pipeline::format_number(min_face_length_mm) + "-" +
+                                      pipeline::format_number(max_face_length_mm) + " and " +
+                                      pipeline::format_number(min_face_width_mm) + "-" +
+                                      pipeline::format_number(max_face_width_mm) +
+                                      " mm): a head at another scale (its unit?), or landmarks misplaced");
 }
 
 std::string landmarks_json(const Landmarks& l) {

@@ -46,6 +46,17 @@ double face_length(const Landmarks& l);
 /// Zygion–zygion distance [mm].
 double face_width(const Landmarks& l);
 
+/// Face measures outside any adult's, with room to spare: the NIOSH panel spans face lengths of
+/// 93.5-133.5 mm; its medium and large heads have face widths (this zygion-zygion) of ~138-145.
+inline constexpr double min_face_length_mm = 70, max_face_length_mm = 170;
+inline constexpr double min_face_width_mm = 90, max_face_width_mm = 200;
+
+/// Checks that the landmarks measure an adult's face: face length and width within the bounds
+/// above. A NIOSH head three times too large (857 mm, read as mm) went through repair, align and
+/// landmarks with a face 352 mm wide and exit 0.
+/// @throws pipeline::Error(bad_input) naming `path` (the head, or the user's landmarks file).
+void require_adult_face(const Landmarks& l, const std::string& path);
+
 /// The landmarks as JSON (frame, source, landmarks, measures_mm).
 std::string landmarks_json(const Landmarks& l);
 

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
       l = scan2cad::read_landmarks(user);
       pipeline::require_landmarks_on_surface(l.points, head, user);
     }
+    scan2cad::require_adult_face(l, user.empty() ? in : user);
     // 3. Write atomically
     pipeline::write_text_atomic(out, scan2cad::landmarks_json(l));
     std::ostringstream s;

@@ -144,6 +144,23 @@ TEST(read_landmarks, rejects_a_left_point_on_the_right) {
             "aligned?");
 }
 
+// A head three times too large (read as mm) went through repair, align and landmarks with a face
+// 352 mm wide, exit 0; one 0.65 times as large has a child's face. Both are refused, naming the file.
+TEST(require_adult_face, refuses_faces_at_another_scale) {
+  const scan2cad::Landmarks l = sided_landmarks(1.0);  // face length 110 mm, width 100 mm
+  EXPECT_EQ(bad_input_message([&] { scan2cad::require_adult_face(l, "head.ply"); }, "head.ply"), "no error");
+  for (const double scale : {3.0, 0.6}) {
+    scan2cad::Landmarks scaled = l;
+    for (auto& [name, p] : scaled.points) p.position *= scale;
+    EXPECT_EQ(bad_input_message([&] { scan2cad::require_adult_face(scaled, "head.ply"); }, "head.ply"),
+              "face length " + pipeline::format_number(110 * scale) + " mm and width " +
+                  pipeline::format_number(100 * scale) +
+                  " mm, outside any adult's (70-170 and 90-200 mm): a head at another scale (its unit?), or landmarks "
+                  "misplaced")
+        << scale;
+  }
+}
+
 // confidence is optional (1 when absent), but one that is there and not a number was read as 1.
 TEST(read_landmarks, rejects_a_confidence_that_is_not_a_number) {
   const auto path = scratch_dir() / "confidence.json";
