@@ -42,6 +42,7 @@
 #include <utility>
 
 #include "pipeline/error.h"
+#include "pipeline/principal_spreads.h"
 #include "pipeline/progress.h"
 #include "pipeline/units.h"
 #include "scan2cad/remove_support_plane.h"
@@ -77,19 +78,6 @@ constexpr double surface_check_min_quality = 0.5, min_share_of_points_on_a_surfa
 // The largest share of the points the normal orientation may leave unreached (see its use).
 constexpr double max_unreached_share = 0.1;
 
-// Standard deviations [mm] of the points along their three principal axes, smallest first.
-Eigen::Vector3d principal_spreads_mm(const std::vector<PN>& points) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& [p, n] : points) mean += Eigen::Vector3d(p.x(), p.y(), p.z());
-  mean /= double(points.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& [p, n] : points) {
-    const Eigen::Vector3d d = Eigen::Vector3d(p.x(), p.y(), p.z()) - mean;
-    cov += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / double(points.size()));
-  return eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();  // ascending
-}
 // The per-point k-NN steps (spacing, outliers, jet smoothing, jet normals) run on all cores
 // through internal/point_set_steps.h: CGAL's per-point code with a fixed OpenMP schedule, so the
 // output does not depend on the threads' timing.
@@ -639,15 +627,12 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   // Points on a plane or a line: CGAL 5.5's Poisson crashes when its Delaunay triangulation is
   // flat and never finishes contouring when it is nearly so (a plane with 0.001 mm of noise ran
   // for over 5 minutes). Across its thinnest axis a head spreads 0.64 times as far as along its
-  // longest (NIOSH medium) and a generated cup 0.48 times; a noisy plane is under a fiftieth.
+  // longest (NIOSH medium) and a generated cup 0.48 times (pipeline/principal_spreads.h).
   // Checked after the outlier removal: 1 % of outliers in a box would hide a plane.
-  const Eigen::Vector3d spread_mm = principal_spreads_mm(pn);
-  if (spread_mm[0] < 0.02 * spread_mm[2]) {
-    char what[160];
-    std::snprintf(what, sizeof what, "the points lie on a plane or a line (spread %.3f mm across it, %.1f mm along it)",
-                  spread_mm[0], spread_mm[2]);
-    throw pipeline::bad_input("point cloud", std::string(what) + ": a flat patch, not a head or a respirator");
-  }
+  if (const std::string why = pipeline::why_flat(
+          pipeline::principal_spreads(pn, [](const PN& x) -> const Point& { return x.first; }), "the points");
+      !why.empty())
+    throw pipeline::bad_input("point cloud", why);
   const double on_surface =
       internal::share_of_points_on_a_surface(pn, surface_check_neighbors, 2000, surface_check_min_quality);
   if (on_surface < min_share_of_points_on_a_surface)

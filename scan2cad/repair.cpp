@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "pipeline/error.h"
+#include "pipeline/principal_spreads.h"
 #include "pipeline/progress.h"
 #include "pipeline/require_affordable_edge.h"
 #include "scan2cad/internal/cleanup.h"
@@ -93,6 +94,12 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   mesh.collect_garbage();
   r.degenerate_faces_removed = f0 > mesh.number_of_faces() ? f0 - mesh.number_of_faces() : 0;
   if (mesh.number_of_faces() == 0) throw pipeline::bad_input("mesh", "no usable faces after removing degenerate ones");
+  // A head squashed flat ended in the smoothing as "shrank the surface to -nan %" (exit 3).
+  if (const std::string why = pipeline::why_flat(
+          pipeline::principal_spreads(mesh.vertices(), [&](pipeline::VertexIndex v) -> const pipeline::Point& { return mesh.point(v); }),
+          "its vertices");
+      !why.empty())
+    throw pipeline::bad_input("mesh", why);
   // Checked before any work, on the input's area (the hole fills add little).
   pipeline::require_affordable_edge("--edge", opt.target_edge_mm, mesh, max_remeshed_triangles);
 

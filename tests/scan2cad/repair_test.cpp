@@ -118,6 +118,16 @@ TEST(repair, a_surface_in_two_large_pieces_is_refused) {
             std::string::npos);
 }
 
+// A head squashed flat (every z 0) ended in the smoothing as "shrank the surface to -nan %",
+// exit 3, blaming the smoothing options.
+TEST(repair, a_surface_squashed_flat_is_bad_input) {
+  auto s = test_meshes::sphere_soup(50, 40);
+  for (auto& p : s.points) p = pipeline::Point(p.x(), p.y(), 0);
+  EXPECT_EQ(bad_input_message([&] { scan2cad::repair(s, scan2cad::ScanKind::head, {}); }),
+            "mesh: its vertices lie on a plane or a line (spread 0.000 mm across it, 28.0 mm along it): a flat patch, "
+            "not a head or a respirator");
+}
+
 TEST(repair, soup_without_faces_is_bad_input) {
   pipeline::PolygonSoup s;
   s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
