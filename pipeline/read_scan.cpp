@@ -119,6 +119,11 @@ std::string why_stl_unreadable(const std::string& path, const std::string& assim
     if (n > 0 && size < expected)
       return "truncated binary STL: its header declares " + std::to_string(n) + " triangles (" +
              std::to_string(expected) + " bytes), the file has " + std::to_string(size) + " bytes";
+    // assimp refuses these with the same words as a file that is no STL
+    if (size > expected)
+      return "binary STL: its header declares " + std::to_string(n) + " triangles (" + std::to_string(expected) +
+             " bytes), the file has " + std::to_string(size) +
+             " bytes: a count too small, or data appended (two files joined?)";
   }
   if (text && head.rfind("solid", 0) != 0) return "not an STL file: text that does not start with \"solid\"";
   if (!text && size < 84)

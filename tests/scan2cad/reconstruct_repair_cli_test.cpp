@@ -157,6 +157,10 @@ TEST(reconstruct_cli, truncated_binary_stl_is_rejected) {
 TEST(repair_cli, truncated_binary_stl_is_rejected) {
   const std::string b = file_text(niosh_medium);
   expect_rejected("repair", scratch_file("cut_r.stl", b.substr(0, b.size() / 3)), "truncated binary STL: its header declares");
+  // two files joined, or bytes appended: assimp's words were those for a file that is no STL
+  expect_rejected("repair", scratch_file("joined.stl", b + b),
+                  "binary STL: its header declares 20146 triangles (1007384 bytes), the file has 2014768 bytes: a count "
+                  "too small, or data appended (two files joined?)");
 }
 
 // A flat patch given as a head was closed into two coincident sheets, and CGAL's remeshing then
