@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     // 1. Resolve options.
     pipeline::require_extension("--out", out, pipeline::point_cloud_extensions);
     if (!clean_mesh.empty()) pipeline::require_extension("--clean-mesh", clean_mesh, pipeline::surface_mesh_extensions);
+    if (!holes_out.empty()) pipeline::require_extension("--holes-out", holes_out, {".json"});  // it writes JSON
     rq.seed = static_cast<std::uint64_t>(seed);
     generator::parse_hole_diameters(holes_diam, &rq.hole_diameter_min_mm, &rq.hole_diameter_max_mm);
     rq.noise_direction = generator::parse_noise_direction(noise_dir);

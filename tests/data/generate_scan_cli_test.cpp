@@ -64,6 +64,9 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
             std::string::npos)
       << file_text(tmp + "/stderr.txt");
   EXPECT_EQ(run("--from-mesh /nonexistent.stl --out " + tmp + "/x.ply"), 2);
+  // the holes are written as JSON, which a .txt name hid
+  EXPECT_EQ(run("--from-mesh " + niosh + " --holes-out " + tmp + "/h.txt --out " + tmp + "/x.ply"), 1);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("--holes-out"), std::string::npos) << file_text(tmp + "/stderr.txt");
   EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
   // The headforms file given for a cup: the error named the cups' 'average' face, which that file
   // lacks; now it names what is missing.
