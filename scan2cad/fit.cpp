@@ -124,7 +124,13 @@ std::string fit_part_name(int label, const std::string& kind) {
 
 void check_parts(const SurfaceMesh& mesh, const std::string& kind) {
   auto found = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property);
-  if (!found.second) throw pipeline::bad_input("parts", "no face property \"part\" (run segment first)");
+  if (!found.second) {
+    // segment writes an int; one of another type was reported as missing
+    const auto names = mesh.properties<pipeline::FaceIndex>();
+    if (std::find(names.begin(), names.end(), pipeline::part_property) != names.end())
+      throw pipeline::bad_input("parts", "face property \"part\" is not an int (segment writes int labels)");
+    throw pipeline::bad_input("parts", "no face property \"part\" (run segment first)");
+  }
   std::array<bool, 5> present{};
   for (auto f : mesh.faces()) {
     const int l = found.first[f];
@@ -159,6 +165,23 @@ void check_parts(const SurfaceMesh& mesh, const std::string& kind) {
       throw pipeline::bad_input("parts", "part " + fit_part_name(label, kind) + " is in " + std::to_string(pieces.size()) +
                                              " separate pieces, but segment makes each part one connected piece "
                                              "(labels scrambled or edited by hand?)");
+  // Each cheek on its side of the aligned head (+x is the subject's left): labels swapped by hand
+  // were fitted, layered and assembled with the left cheek on the right, exit 0.
+  if (kind == "head") {
+    double x_sum[5] = {0, 0, 0, 0, 0}, n[5] = {0, 0, 0, 0, 0};
+    for (auto f : mesh.faces()) {
+      const std::size_t l = std::size_t(found.first[f]);
+      for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) x_sum[l] += mesh.point(v).x(), n[l] += 1;
+    }
+    for (const int l : {2, 3}) {
+      const double x_mm = x_sum[l] / n[l];
+      if (l == 2 ? !(x_mm > 0) : !(x_mm < 0))
+        throw pipeline::bad_input("parts", std::string("part ") + head_names[l] + " lies at mean x = " +
+                                               pipeline::format_number(x_mm) + " mm, on the subject's " +
+                                               (l == 2 ? "right" : "left") +
+                                               " (+x is the left in align's frame): cheek labels swapped?");
+    }
+  }
 }
 
 SurfaceMesh remesh_parts(const SurfaceMesh& input, const std::string& kind, double edge_mm, double back_edge_mm) {

@@ -28,8 +28,9 @@ struct FitPart {
 /// Checks the part labels of a segmented mesh.
 /// @param[in] kind "head" (labels 0..4: back_of_head, forehead, left_cheek, right_cheek, chin) or
 ///                 "respirator" (one part, label 0, named respirator_inner)
-/// @throws pipeline::Error(bad_input) if "f:part" is missing, a label is unknown for `kind`, or a
-///         face is not a triangle
+/// @throws pipeline::Error(bad_input) if "f:part" is missing or not an int, a label is unknown
+///         for `kind`, a face is not a triangle, a head lacks a part or has one in separate pieces,
+///         or a head's left cheek lies at mean x <= 0 or its right one at x >= 0 (align's frame)
 void check_parts(const pipeline::SurfaceMesh& segmented, const std::string& kind);
 
 /// Isotropic remeshing of a part-labelled triangle mesh [mm]:

@@ -129,3 +129,23 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
   EXPECT_NE(edge_line.find(" mm2 surface, more than 1 million: choose a longer edge"), std::string::npos) << edge_line;
   EXPECT_FALSE(fs::exists(bad));
 }
+
+// Cheek labels swapped by hand were fitted, layered and assembled with the left cheek on the
+// subject's right (exit 0); a part label of another type was reported as missing.
+TEST(check_parts, cheeks_on_the_wrong_sides_and_a_label_of_another_type_are_refused) {
+  pipeline::SurfaceMesh seg = segmented_medium();
+  auto part = seg.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  for (auto f : seg.faces())
+    if (part[f] == 2 || part[f] == 3) part[f] = 5 - part[f];
+  const std::string message = bad_input_message([&] { scan2cad::check_parts(seg, "head"); });
+  EXPECT_EQ(message.rfind("parts: part left_cheek lies at mean x = -", 0), 0u) << message;
+  EXPECT_NE(message.find("mm, on the subject's right (+x is the left in align's frame): cheek labels swapped?"),
+            std::string::npos)
+      << message;
+  pipeline::SurfaceMesh typed = segmented_medium();
+  auto labels = typed.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  typed.remove_property_map(labels);
+  typed.add_property_map<pipeline::FaceIndex, float>(pipeline::part_property, 0.0f);
+  EXPECT_EQ(bad_input_message([&] { scan2cad::check_parts(typed, "head"); }),
+            "parts: face property \"part\" is not an int (segment writes int labels)");
+}
