@@ -63,6 +63,12 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
 void require_stack_for_every_part(const FeModel& surface, const std::map<std::string, Stack>& stacks,
                                   const std::string& surface_path, const std::string& materials_path);
 
+/// Checks that a head surface's left_cheek lies at mean x > 0 and its right_cheek at x < 0 (align's
+/// frame: +x is the subject's left); groups absent are not checked. Names swapped by hand were
+/// layered and assembled with the left cheek on the right, exit 0.
+/// @throws Error(bad_input) naming `surface_path` and the cheek.
+void require_cheeks_on_their_sides(const FeModel& surface, const std::string& surface_path);
+
 /// Checks that no triangle of `surface` repeats a node, has zero area or repeats another
 /// triangle's three nodes. surface_mesh writes none; in an edited file a duplicated respirator
 /// triangle was layered as two coincident wedges per layer, and a back_of_head triangle with a

@@ -157,6 +157,20 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
   return out;
 }
 
+void require_cheeks_on_their_sides(const FeModel& surface, const std::string& surface_path) {
+  for (const auto& [name, sign] : {std::pair<const char*, double>{"left_cheek", 1.0}, {"right_cheek", -1.0}}) {
+    const Block* b = surface.find(name);
+    if (!b || b->conn.empty()) continue;
+    double x_mm = 0;
+    for (int node : b->conn) x_mm += surface.nodes[std::size_t(node)].x() / double(b->conn.size());
+    if (!(sign * x_mm > 0))
+      throw pipeline::bad_input(surface_path, std::string("group ") + name + " lies at mean x = " +
+                                                  pipeline::format_number(x_mm) + " mm, on the subject's " +
+                                                  (sign > 0 ? "right" : "left") +
+                                                  " (+x is the left in align's frame): cheek names swapped?");
+  }
+}
+
 void require_clean_triangles(const FeModel& surface, const std::string& surface_path) {
   std::map<std::array<int, 3>, std::string> seen;  // sorted nodes → group
   for (const Block& b : surface.blocks) {

@@ -415,3 +415,19 @@ TEST(parse_elements_per_tissue, takes_materials_of_the_stacks_with_counts_1_to_2
   EXPECT_EQ(message("seal_layer=2"), "--elements-per-tissue: 'seal_layer=2': no layer of seal_layer in the stacks");
   EXPECT_EQ(message("skin=2,skin=3"), "--elements-per-tissue: skin given twice");
 }
+
+// Cheek names swapped by hand in surface.msh were layered and assembled with the left cheek on the
+// subject's right (+x is the left), exit 0.
+TEST(require_cheeks_on_their_sides, names_a_cheek_on_the_wrong_side) {
+  layering::FeModel m;
+  m.nodes = {{50, 0, 0}, {60, 0, 0}, {50, 10, 0}, {-50, 0, 0}, {-60, 0, 0}, {-50, 10, 0}};
+  m.blocks.push_back(layering::Block{"left_cheek", 2, 3, {0, 1, 2}});
+  m.blocks.push_back(layering::Block{"right_cheek", 2, 3, {3, 5, 4}});
+  const auto message = [&] {
+    return bad_input_message([&] { layering::require_cheeks_on_their_sides(m, "surface.msh"); }, "surface.msh");
+  };
+  EXPECT_EQ(message(), "no error");
+  std::swap(m.blocks[0].name, m.blocks[1].name);
+  EXPECT_EQ(message(), "group left_cheek lies at mean x = -53.3333 mm, on the subject's right (+x is the left in align's "
+                       "frame): cheek names swapped?");
+}
