@@ -102,6 +102,14 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
     throw pipeline::bad_input("mesh", why);
   // Checked before any work, on the input's area (the hole fills add little).
   pipeline::require_affordable_edge("--edge", opt.target_edge_mm, mesh, max_remeshed_triangles);
+  // and not so coarse that the object loses its shape: --edge 20 left NIOSH medium 1,126 faces,
+  // and align and landmarks ran on it (a gonion 40 mm off), exit 0
+  if (const double extent_mm = pipeline::largest_extent(mesh.points());
+      opt.target_edge_mm > extent_mm / min_edges_across)
+    throw pipeline::Error(pipeline::ErrorKind::usage,
+                          "--edge " + pipeline::format_number(opt.target_edge_mm) + " mm is coarser than 1/" +
+                              pipeline::format_number(min_edges_across) + " of the object's " +
+                              pipeline::format_number(extent_mm) + " mm: the remeshed surface would lose its shape");
 
   // 2. Small components. A large second piece is no scanner debris: a 4 mm gap across the NIOSH
   //    head cut off its face (36 % of the faces), and repair kept the back of the head and closed

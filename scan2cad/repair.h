@@ -38,13 +38,18 @@ namespace scan2cad {
 /// (NIOSH medium, 167,890 mm²: ~170,000), several GB and minutes of remeshing.
 constexpr double max_remeshed_triangles = 1e7;
 
+/// The remeshing's edge is at most the object's largest extent over this (a head 11 mm, a
+/// respirator 5 mm; the default is 1.5).
+constexpr double min_edges_across = 25;
+
 /// The largest area share a removed component may have: scanner debris is well under 1 %; a
 /// head cut in two by a 4 mm gap across the face had 36 % in its second piece, two heads 50 %.
 constexpr double max_second_component_share = 0.1;
 
 struct RepairOptions {
   /// target edge length of the isotropic remeshing [mm]; default 1.5, 0 = no remeshing; an edge
-  /// that would give more than max_remeshed_triangles on the input's area is a usage error
+  /// that would give more than max_remeshed_triangles on the input's area, or longer than the
+  /// input's largest extent / min_edges_across, is a usage error
   double target_edge_mm = 1.5;
   /// remeshing iterations; default 3, range 1–20
   int remesh_iterations = 3;

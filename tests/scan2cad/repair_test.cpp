@@ -128,6 +128,18 @@ TEST(repair, a_surface_squashed_flat_is_bad_input) {
             "not a head or a respirator");
 }
 
+// --edge 20 left NIOSH medium 1,126 faces, on which align and landmarks ran (exit 0): an edge
+// longer than 1/25 of the object is a usage error; the sphere of radius 50 (100 mm) takes 4 mm.
+TEST(repair, an_edge_too_coarse_for_the_object_is_refused) {
+  const auto s = test_meshes::sphere_soup(50, 40);
+  scan2cad::RepairOptions opt;
+  opt.target_edge_mm = 5;
+  EXPECT_EQ(error_message(pipeline::ErrorKind::usage, [&] { scan2cad::repair(s, scan2cad::ScanKind::head, opt); }),
+            "--edge 5 mm is coarser than 1/25 of the object's 100 mm: the remeshed surface would lose its shape");
+  opt.target_edge_mm = 4;
+  EXPECT_NO_THROW(scan2cad::repair(s, scan2cad::ScanKind::head, opt));
+}
+
 TEST(repair, soup_without_faces_is_bad_input) {
   pipeline::PolygonSoup s;
   s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
