@@ -37,6 +37,16 @@ std::vector<ScanPoint> niosh_scan_points() {
 }
 constexpr double niosh_cap_y_mm = -162.3;
 
+// The generated one-size cup, seed 1.
+generator::GenerateRequest onesize_cup_request() {
+  generator::GenerateRequest rq;
+  rq.kind = "respirator";
+  rq.id = "onesize";
+  rq.params_path = std::string(SOURCE_DIR) + "/data/generator/respirators.json";
+  rq.seed = 1;
+  return rq;
+}
+
 // A table at height y: a 280 mm disc of points under the head (0.3 mm of noise), as dense as the
 // head's, without the points within `hidden_radius_mm` of the neck's axis (the neck hides them).
 std::vector<ScanPoint> table_points(double y, double hidden_radius_mm) {
@@ -125,11 +135,7 @@ TEST(remove_support_plane, a_head_standing_on_a_table_loses_the_table_and_its_ne
 // keeps its points above the contact band. With the removal band everywhere it lost every point
 // within 2 mm of the table, up to 3.7 mm of the rim after repair.
 TEST(remove_support_plane, a_cup_standing_on_its_rim_keeps_the_rim) {
-  generator::GenerateRequest rq;
-  rq.kind = "respirator";
-  rq.id = "onesize";
-  rq.params_path = std::string(SOURCE_DIR) + "/data/generator/respirators.json";
-  rq.seed = 1;
+  generator::GenerateRequest rq = onesize_cup_request();
   rq.outlier_fraction = 0;
   const generator::GeneratedScan cup = generator::generate_scan(rq);
   double lowest_z_mm = 1e9, x0 = 0, y0 = 0;
@@ -191,11 +197,7 @@ TEST(remove_support_plane, a_plane_alone_noise_or_a_sphere_has_none) {
 // onto it, but it lies inside the cup's outline. Judged by the nearest projected point instead of
 // the outline, it was taken for a table and 14,433 of the cup's points were removed.
 TEST(remove_support_plane, a_cups_flat_front_is_kept) {
-  generator::GenerateRequest rq;
-  rq.kind = "respirator";
-  rq.id = "onesize";
-  rq.params_path = std::string(SOURCE_DIR) + "/data/generator/respirators.json";
-  rq.seed = 1;
+  generator::GenerateRequest rq = onesize_cup_request();
   std::vector<ScanPoint> pn;
   for (const auto& p : generator::generate_scan(rq).cloud.points) pn.push_back({p, pipeline::Vector(0, 0, 0)});
   const std::size_t n = pn.size();
