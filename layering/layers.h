@@ -69,6 +69,14 @@ void require_stack_for_every_part(const FeModel& surface, const std::map<std::st
 /// @throws Error(bad_input) naming `surface_path` and the cheek.
 void require_cheeks_on_their_sides(const FeModel& surface, const std::string& surface_path);
 
+/// Checks that the triangles of `surface` (all its triangle groups together) form one
+/// edge-manifold, consistently oriented piece: every edge in at most two triangles, and in
+/// opposite directions. surface_mesh writes such a surface; in an edited one a fin triangle, a
+/// loose triangle, a second sheet or one flipped triangle ran 60 thinning passes (up to 14 s) and
+/// ended as "wedges still inverted, distorted or intersecting".
+/// @throws Error(bad_input) naming `surface_path` and an edge (0-based node numbers).
+void require_one_oriented_sheet(const FeModel& surface, const std::string& surface_path);
+
 /// Checks that no triangle of `surface` repeats a node, has zero area or repeats another
 /// triangle's three nodes. surface_mesh writes none; in an edited file a duplicated respirator
 /// triangle was layered as two coincident wedges per layer, and a back_of_head triangle with a

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     pipeline::require_mm(in, pipeline::largest_extent(surface.nodes), kind);
     layering::require_stack_for_every_part(surface, stacks, in, materials);
     layering::require_clean_triangles(surface, in);
+    layering::require_one_oriented_sheet(surface, in);
     layering::require_cheeks_on_their_sides(surface, in);
     // 3. Layers.
     layering::LayerReport rep;

@@ -6,6 +6,8 @@
 #include <array>
 #include <cctype>
 #include <map>
+#include <numeric>
+#include <set>
 #include <sstream>
 #include <nlohmann/json.hpp>
 
@@ -169,6 +171,37 @@ void require_cheeks_on_their_sides(const FeModel& surface, const std::string& su
                                                   (sign > 0 ? "right" : "left") +
                                                   " (+x is the left in align's frame): cheek names swapped?");
   }
+}
+
+void require_one_oriented_sheet(const FeModel& surface, const std::string& surface_path) {
+  std::map<std::pair<int, int>, int> directed;  // (from, to) → uses
+  std::vector<int> parent(surface.nodes.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int a) {
+    while (parent[std::size_t(a)] != a) a = parent[std::size_t(a)] = parent[std::size_t(parent[std::size_t(a)])];
+    return a;
+  };
+  std::vector<char> used(surface.nodes.size(), 0);
+  for (const Block& b : surface.blocks) {
+    if (b.dim != 2 || b.nodes_per_elem != 3) continue;
+    for (std::size_t e = 0; e < b.size(); ++e)
+      for (int k = 0; k < 3; ++k) {
+        const int from = b.conn[3 * e + std::size_t(k)], to = b.conn[3 * e + std::size_t((k + 1) % 3)];
+        used[std::size_t(from)] = 1;
+        parent[std::size_t(root(from))] = root(to);
+        if (++directed[{from, to}] > 1)  // a flipped triangle, or a third on the edge
+          throw pipeline::bad_input(surface_path, "edge " + std::to_string(from) + "-" + std::to_string(to) +
+                                                      " runs the same way in two triangles: a triangle flipped, or "
+                                                      "more than two triangles on an edge");
+      }
+  }
+  // (an edge in three triangles runs the same way in two of them: caught above)
+  std::set<int> pieces;
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (used[i]) pieces.insert(root(int(i)));
+  if (pieces.size() > 1)
+    throw pipeline::bad_input(surface_path, "its triangles are in " + std::to_string(pieces.size()) +
+                                                " separate pieces, expected one surface");
 }
 
 void require_clean_triangles(const FeModel& surface, const std::string& surface_path) {

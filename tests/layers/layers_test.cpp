@@ -431,3 +431,22 @@ TEST(require_cheeks_on_their_sides, names_a_cheek_on_the_wrong_side) {
   EXPECT_EQ(message(), "group left_cheek lies at mean x = -53.3333 mm, on the subject's right (+x is the left in align's "
                        "frame): cheek names swapped?");
 }
+
+// An edited surface that is not one oriented sheet (a flipped triangle, a fin, a loose triangle)
+// ran 60 thinning passes and ended as "wedges still inverted, distorted or intersecting".
+TEST(require_one_oriented_sheet, names_a_flipped_or_fin_edge_and_loose_pieces) {
+  layering::FeModel m;
+  m.nodes = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}, {5, 5, 10}, {50, 50, 0}, {60, 50, 0}, {50, 60, 0}};
+  m.blocks.push_back(layering::Block{"respirator_inner", 2, 3, {0, 1, 2, 1, 3, 2}});
+  const auto message = [&] {
+    return bad_input_message([&] { layering::require_one_oriented_sheet(m, "surface.msh"); }, "surface.msh");
+  };
+  EXPECT_EQ(message(), "no error");
+  m.blocks[0].conn = {0, 1, 2, 1, 2, 3};  // the second triangle flipped
+  EXPECT_EQ(message(), "edge 1-2 runs the same way in two triangles: a triangle flipped, or more than two triangles on an edge");
+  m.blocks[0].conn = {0, 1, 2, 1, 3, 2, 2, 1, 4};  // a fin on the shared edge 1-2
+  EXPECT_NE(message().find("runs the same way in two triangles"), std::string::npos);
+  m.blocks[0].conn = {0, 1, 2, 1, 3, 2};
+  m.blocks.push_back(layering::Block{"back_of_head", 2, 3, {5, 6, 7}});  // every triangle group counts
+  EXPECT_EQ(message(), "its triangles are in 2 separate pieces, expected one surface");
+}
