@@ -102,6 +102,25 @@ std::string why_text_unreadable(const std::string& path, const std::string& what
   return "unreadable or truncated " + what;
 }
 
+// Why CGAL refused a PLY: face indices of 8 or 16 bits (valid PLY, written by some tools to save
+// space), which its reader does not take, were reported as "unreadable or truncated"; otherwise
+// why_text_unreadable's reasons.
+std::string why_ply_unreadable(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  for (std::string line; std::getline(in, line) && line.rfind("end_header", 0) != 0;) {
+    std::istringstream words(line);
+    std::string property, list, count_type, index_type, name;
+    if (words >> property >> list >> count_type >> index_type >> name && property == "property" && list == "list" &&
+        name.rfind("vertex_ind", 0) == 0) {
+      for (const char* small : {"char", "uchar", "int8", "uint8", "short", "ushort", "int16", "uint16"})
+        if (index_type == small)
+          return "its face indices are of type " + index_type +
+                 ", which CGAL's PLY reader does not take (int or uint, 32 bits): convert the file (e.g. in MeshLab)";
+    }
+  }
+  return why_text_unreadable(path, "PLY", "end_header");
+}
+
 // Why assimp refused an STL, where the bytes can tell: assimp says "Failed to determine STL
 // storage representation" both for a cut-off binary STL and for a file that is no STL at all. A
 // binary STL is an 80-byte header, a little-endian uint32 triangle count and 50 bytes per
@@ -202,7 +221,7 @@ void read_ply(const std::string& path, Scan& scan) {
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
   if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, pts, polys); }))
-    throw bad_input(path, why_text_unreadable(path, "PLY", "end_header"));
+    throw bad_input(path, why_ply_unreadable(path));
   require_nothing_after_elements(in, path);
   if (!polys.empty()) {
     scan.is_mesh = true;
@@ -386,7 +405,7 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
       std::vector<Point> points;
       std::vector<std::vector<std::size_t>> polygons;
       if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, points, polygons); }))
-        throw bad_input(path, "unreadable or truncated PLY");
+        throw bad_input(path, why_ply_unreadable(path));
       require_nothing_after_elements(in, path);
       check_face_indices(polygons, points.size(), path);
       if (!polygons.empty() && !PMP::is_polygon_soup_a_polygon_mesh(polygons))

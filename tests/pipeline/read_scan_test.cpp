@@ -119,6 +119,25 @@ TEST(read_scan, data_beyond_the_counts_of_the_header_is_refused) {
                       "was appended (damaged or hand-edited file?)");
 }
 
+// Face indices of 16 or 8 bits are valid PLY, which CGAL's reader refuses: they were reported as
+// "unreadable or truncated PLY"; 32-bit ones of any name are read.
+TEST(read_scan, a_ply_with_16_bit_face_indices_is_named_so) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 4\nproperty list uchar TYPE vertex_indices\nend_header\n"
+                           "0 0 0\n100 0 0\n0 100 0\n0 0 100\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+  const auto with_type = [&](const std::string& type) {
+    std::string text = head;
+    return scratch_file("indices_" + type + ".ply", text.replace(text.find("TYPE"), 4, type));
+  };
+  const std::string ushort_ply = with_type("ushort");
+  const std::string expected = ushort_ply + ": its face indices are of type ushort, which CGAL's PLY reader does not take "
+                                            "(int or uint, 32 bits): convert the file (e.g. in MeshLab)";
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(ushort_ply, {pipeline::Unit::mm}); }), expected);
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_surface_mesh(ushort_ply); }), expected);
+  for (const std::string type : {"int", "uint", "int32", "uint32"})
+    EXPECT_EQ(pipeline::read_scan(with_type(type), {pipeline::Unit::mm}).soup.polygons.size(), 4u) << type;
+}
+
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
 // "X.PLY" failed after the work ("unknown point cloud format '.PLY'"), since the writer compared
 // the ending as written. Both formats round trip under an upper-case ending.
