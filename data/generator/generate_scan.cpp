@@ -45,6 +45,13 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
   const double area = surface_area(tri);
   opt.points = rq.points > 0 ? std::size_t(rq.points)
                              : std::size_t(std::llround(area / (rq.spacing_mm * rq.spacing_mm)));
+  // --points is bounded through the spacing it gives on this surface, as --spacing-mm is: a few
+  // points (e.g. -n 1) made a "scan" that only reconstruct refused.
+  const double spacing_mm = std::sqrt(area / double(opt.points));
+  if (rq.points > 0 && spacing_mm > max_scan_spacing_mm)
+    throw usage("--points " + std::to_string(rq.points) + " spaces the points " + pipeline::format_number(spacing_mm) +
+                " mm apart on this surface of " + pipeline::format_number(area) + " mm2: at most " +
+                pipeline::format_number(max_scan_spacing_mm) + " mm, as --spacing-mm");
   opt.noise_mm = rq.noise_mm;
   opt.noise_direction = rq.noise_direction;
   opt.outliers.fraction = rq.outlier_fraction;
@@ -80,6 +87,11 @@ void parse_hole_diameters(const std::string& text, double* min_mm, double* max_m
   *max_mm = num(b);
   if (*min_mm > *max_mm)
     throw usage("--hole-diameter-mm: MIN > MAX in '" + text + "'");
+  // A hole narrower than a scanner's point spacing (0.5-1 mm) removes a point or none: not a hole.
+  constexpr double min_hole_mm = 1;
+  if (*min_mm < min_hole_mm)
+    throw usage("--hole-diameter-mm: MIN " + pipeline::format_number(*min_mm) + " mm in '" + text +
+                "' is narrower than " + pipeline::format_number(min_hole_mm) + " mm, a scanner's point spacing");
   // A scanner leaves holes of a few mm to a few cm (under the chin, in the ears); one wider than
   // a face (~140 mm) is a slip of unit or of a digit, and failed only after the sampling.
   constexpr double max_hole_mm = 100;

@@ -10,6 +10,10 @@
 
 namespace generator {
 
+/// The widest mean point spacing a scan may have [mm]: a head of ~1,200 points. Bounds
+/// --spacing-mm and the spacing --points gives.
+constexpr double max_scan_spacing_mm = 10.0;
+
 /// What to scan and how. Either mesh_path (scan a given mesh) or kind + id + params_path
 /// (a generated headform or respirator) must be set, not both.
 struct GenerateRequest {
@@ -18,7 +22,7 @@ struct GenerateRequest {
   std::string params_path;  ///< headforms.json or respirators.json
   std::string mesh_path;    ///< a mesh to scan (PLY/STL/OBJ/OFF, any unit read_scan detects)
   int points = 0;           ///< samples before holes/outliers; 0: area / spacing_mm²
-  double spacing_mm = 0.6;  ///< mean spacing of a structured-light scanner [mm], (0.1, 10]
+  double spacing_mm = 0.6;  ///< mean spacing of a structured-light scanner [mm], [0.1, max_scan_spacing_mm]
   double noise_mm = 0.2;    ///< Gaussian noise σ [mm]
   NoiseDirection noise_direction = NoiseDirection::normal;
   double outlier_fraction = 0.005;  ///< outliers + spikes share of the output, [0, 0.5)

@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
       .option("-c", "--clean-mesh", &clean_mesh, "also write the clean reference surface (.ply/.off/.stl)")
       .option("-H", "--holes-out", &holes_out, "also write the holes made (JSON)")
       .option("-n", "--points", &rq.points, "surface samples before holes/outliers (0: from --spacing-mm)", 0, 50000000)
-      .option("-s", "--spacing-mm", &rq.spacing_mm, "mean point spacing when --points is 0 [mm]", 0.1, 10.0)
+      .option("-s", "--spacing-mm", &rq.spacing_mm, "mean point spacing when --points is 0 [mm]", 0.1,
+              generator::max_scan_spacing_mm)
       .option("-N", "--noise-mm", &rq.noise_mm, "Gaussian noise sigma [mm]", 0.0, 10.0)
       .option("-D", "--noise-direction", &noise_dir, "noise along the 'normal' or 'isotropic'")
       .option("-f", "--outlier-fraction", &rq.outlier_fraction, "share of outliers and spikes in the output", 0.0, 0.49)

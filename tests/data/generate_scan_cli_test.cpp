@@ -63,6 +63,15 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   EXPECT_NE(file_text(tmp + "/stderr.txt").find("--hole-diameter-mm: MAX 1e+300 mm in '10:1e300' is wider than 100 mm"),
             std::string::npos)
       << file_text(tmp + "/stderr.txt");
+  // a hole narrower than the point spacing, and a scan of one point, were accepted
+  EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 1e-300:1 --out " + tmp + "/x.ply"), 1);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("--hole-diameter-mm: MIN 1e-300 mm in '1e-300:1' is narrower than 1 mm"),
+            std::string::npos)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_EQ(run("--from-mesh " + niosh + " --points 1 --out " + tmp + "/x.ply"), 1);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("--points 1 spaces the points "), std::string::npos)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_FALSE(std::filesystem::exists(tmp + "/x.ply"));
   EXPECT_EQ(run("--from-mesh /nonexistent.stl --out " + tmp + "/x.ply"), 2);
   // the holes are written as JSON, which a .txt name hid
   EXPECT_EQ(run("--from-mesh " + niosh + " --holes-out " + tmp + "/h.txt --out " + tmp + "/x.ply"), 1);
