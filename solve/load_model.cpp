@@ -210,6 +210,9 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
     if (mi == m.materials.end()) throw d.bad(w + ": unknown material '" + str(d, o, "material", w) + "'");
     bool found = false, has_solid = false;
     for (const auto& p : m.parts) has_solid = has_solid || (p.name == g && !is_membrane(p.type));
+    // A thickness given to a solid was ignored without a word: its thickness is its mesh's.
+    if (has_solid && o.contains("thickness"))
+      throw d.bad(w + ".thickness: group '" + g + "' is solid, its thickness is its mesh's (thickness is for membranes)");
     for (const auto& p : m.parts)
       if (p.name == g && (!has_solid || !is_membrane(p.type))) {  // solids win over their own faces
         Part q = p;

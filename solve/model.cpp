@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "pipeline/error.h"
@@ -120,6 +121,14 @@ void check_model(const Model& m) {
     // Coulomb coefficients of skin on fabric or silicone are 0.2-1; 1e9 ran with exit 0.
     if (!(c.friction >= 0 && c.friction <= 2)) throw bad("contact '" + c.name + "': friction must be in [0, 2]");
     if (!names.insert("contact " + c.name).second) throw bad("two contacts named '" + c.name + "'");
+  }
+  // The same slave group on the same master surface twice doubled the penalty without a word.
+  std::map<std::pair<std::string, std::string>, std::string> pair_names;
+  for (const auto& c : m.contacts) {
+    const auto [it, first] = pair_names.emplace(std::make_pair(c.slave, c.master), c.name);
+    if (!first)
+      throw bad("contacts '" + it->second + "' and '" + c.name + "' both press '" + c.slave + "' on '" + c.master +
+                "': a pair once, or its penalty counts twice");
   }
   for (const auto& g : m.output.history_groups) check_group(g);
   for (const auto& c : m.contacts)

@@ -95,6 +95,9 @@ TEST(apply_deck, errors_name_the_key) {
   EXPECT_EQ(contacts("0.5", 1), "no error");
   EXPECT_EQ(contacts("1e9", 1), "block + d.json: contact 'c': friction must be in [0, 2]");
   EXPECT_EQ(contacts("0.5", 2), "block + d.json: two contacts named 'c'");
+  EXPECT_EQ(with(R"("contact": [{"slave": "zmax", "master": "zmin", "name": "c"}, )"
+                 R"({"slave": "zmax", "master": "zmin", "name": "again"}], "control": {"end_time": 1})"),
+            "block + d.json: contacts 'c' and 'again' both press 'zmax' on 'zmin': a pair once, or its penalty counts twice");
   // A misspelt optional key was read as absent: "frction": 0.3 ran with friction 0. Every object
   // of a deck now refuses keys it does not read; keys starting with "_" are comments.
   const std::string end = R"("control": {"end_time": 1})";
@@ -106,6 +109,9 @@ TEST(apply_deck, errors_name_the_key) {
   EXPECT_EQ(with(R"("initial_state": {"file": "s.bin", "reset_velocities": true}, )" + end),
             "d.json: initial_state.reset_velocities: unknown key");
   EXPECT_EQ(with(R"("output": {"history": ["zmin"]}, )" + end), "d.json: output.history: unknown key");
+  EXPECT_EQ(message(R"({"materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.3}}, )"
+                    R"("parts": [{"group": "block", "material": "m", "thickness": 2}], )" + end + "}"),
+            "d.json: parts[block].thickness: group 'block' is solid, its thickness is its mesh's (thickness is for membranes)");
   EXPECT_EQ(message(R"({"materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.3, "rigd": true}}, )"
                     R"("parts": [{"group": "block", "material": "m"}], )" + end + "}"),
             "d.json: materials.m.rigd: unknown key");
