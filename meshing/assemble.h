@@ -73,13 +73,16 @@ struct AssembleReport {
   Eigen::Vector3d shift{0, 0, 0};  ///< applied to the respirator [mm]
   double gap_mm = 0;               ///< measured respirator–skin gap after placement
   double strap_gap_mm = 0;         ///< minimum strap node distance to the skin
+  double attach_offset_mm = 0;     ///< largest distance of a strap attachment point to its rim node
   std::size_t intersecting_pairs = 0;  ///< element faces of different bodies intersecting (0 required)
   std::size_t wedges = 0, quads = 0, nodes = 0;
 };
 
 /// Merges head layers, the placed respirator layers and the straps (already in the head frame) into
 /// one model; adds point groups attach_<strap>_<side> on the respirator rim nodes nearest to the
-/// straps' attachment points. @throws Error(algorithm) if any two bodies intersect after placement.
+/// straps' attachment points. @throws Error(algorithm) if any two bodies intersect after placement;
+/// Error(bad_input) "--straps: strap_top_attach_left lies 2.23 mm from the respirator's rim ..." if an
+/// attachment point is more than 0.5 mm from every rim node (straps placed the respirator otherwise).
 layering::FeModel assemble_model(const layering::FeModel& head, const layering::FeModel& resp,
                                  const layering::FeModel& straps, const std::map<std::string, Eigen::Vector3d>& lm,
                                  const PlaceOptions& opt, AssembleReport* report);

@@ -73,9 +73,9 @@ int main(int argc, char** argv) {
                                  {deck1, [&] { pipeline::write_text_atomic(deck1, d1.dump(2) + "\n"); }},
                                  {deck2, [&] { pipeline::write_text_atomic(deck2, d2.dump(2) + "\n"); }}});
     std::printf("assemble: %s: %zu nodes, %zu wedges, %zu strap quads; respirator shifted by (%.1f, %.1f, %.1f) mm; "
-                "gap %.3f mm; straps %.2f mm off the skin; %zu intersecting face pairs\n",
+                "gap %.3f mm; straps %.2f mm off the skin, attached within %.2f mm of the rim; %zu intersecting face pairs\n",
                 out.c_str(), rep.nodes, rep.wedges, rep.quads, rep.shift.x(), rep.shift.y(), rep.shift.z(), rep.gap_mm,
-                rep.strap_gap_mm, rep.intersecting_pairs);
+                rep.strap_gap_mm, rep.attach_offset_mm, rep.intersecting_pairs);
     return 0;
   });
 }

@@ -23,7 +23,9 @@ int main(int argc, char** argv) {
       .option("-L", "--length-mm", &opt.length_mm, "unstretched strap length [mm]", 50, 1000)
       .option("-w", "--width-mm", &opt.width_mm, "strap width [mm]", 1, 30)
       .option("-t", "--thickness-mm", &opt.thickness_mm, "strap thickness [mm]", 0.1, 5)
-      .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement [mm]", 0.1, 20)
+      .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement, as assemble's [mm]", 0.1, 20)
+      .option("-b", "--bridge-offset-mm", &opt.place.bridge_offset_mm, "rim top below the sellion, as assemble's [mm]",
+              -30, 60)
       .option("-s", "--max-stretch-percent", &opt.max_stretch_percent,
               "refuse a strap the head's outline stretches by more than this [% of its length]", 0, 1000);
   return pipeline::run_main(cli, argc, argv, [&] {

@@ -190,6 +190,7 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   EXPECT_EQ(rep.intersecting_pairs, 0u);
   EXPECT_GE(rep.gap_mm, 3.0 - 1e-6);
   EXPECT_GT(rep.strap_gap_mm, 0.0);
+  EXPECT_LT(rep.attach_offset_mm, 1e-6);  // each attachment point on a rim node
   for (const char* g : {"head_skin", "respirator_inner", "respirator_seal", "respirator_outer", "strap_top",
                         "strap_bottom", "strap_top_end_left", "strap_bottom_end_right", "attach_top_left",
                         "attach_bottom_right", "forehead_bone", "back_of_head", "left_cheek_fat"})
@@ -220,6 +221,28 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   const std::string cmd = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + path +
                           "'); t = {c.type for c in m.cells}; assert {'wedge', 'quad', 'triangle'} <= t, t\"";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
+}
+
+// Straps made for a respirator placed with another gap (straps --gap-mm 6, assemble's 3 mm) routed
+// the bands to points 3 mm from the rim; assemble tied them there with exit 0.
+TEST(assemble_model, straps_made_for_another_placement_are_refused) {
+  auto& s = scene();
+  meshing::StrapOptions other;
+  other.place.gap_mm = 6;
+  const auto straps = meshing::make_straps(s.head, s.lm, s.resp, other, nullptr);
+  const std::string message =
+      error_message(pipeline::ErrorKind::bad_input, [&] { meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, nullptr); });
+  EXPECT_EQ(message.rfind("--straps: strap_", 0), 0u) << message;
+  EXPECT_NE(message.find("mm from the respirator's rim as placed here (gap 3 mm, bridge offset 5 mm): straps was run "
+                         "with another --gap-mm, --bridge-offset-mm or respirator"),
+            std::string::npos)
+      << message;
+  meshing::PlaceOptions lower;  // assemble's --bridge-offset-mm, straps' at its default
+  lower.bridge_offset_mm = 10;
+  EXPECT_NE(error_message(pipeline::ErrorKind::bad_input,
+                          [&] { meshing::assemble_model(s.head, s.resp, meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr), s.lm, lower, nullptr); })
+                .find("bridge offset 10 mm"),
+            std::string::npos);
 }
 
 namespace {
