@@ -28,6 +28,7 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
   const std::string tmp = (target.parent_path() / (".tmp." + std::to_string(::getpid()) + "." +
                                                    target.filename().string())).string();
   try {
+    errno = 0;  // so why_write_failed gives this write's reason, not an earlier call's
     writer(tmp);
   } catch (...) {
     std::remove(tmp.c_str());
@@ -83,9 +84,11 @@ void write_text_atomic(const std::string& path, const std::string& text) {
     std::ofstream out(tmp, std::ios::binary);
     out << text;
     out.flush();
-    if (!out) throw io_failed(path, "write failed");
+    if (!out) throw io_failed(path, "write failed: " + why_write_failed());
   });
 }
+
+std::string why_write_failed() { return errno ? std::strerror(errno) : "write error"; }
 
 std::string read_text(const std::string& path) {
   require_file(path);

@@ -45,6 +45,11 @@ void require_writable_outputs(const std::vector<std::string>& paths);
 /// Writes `text` to `path` atomically.
 void write_text_atomic(const std::string& path, const std::string& text);
 
+/// Why a write just failed, for its error line: the system's reason (errno: "No space left on
+/// device", "File too large"), or "write error" if none was left. write_atomic clears errno before
+/// its writer runs, so a reason is this write's own; call it at once, before errno changes.
+std::string why_write_failed();
+
 /// Reads a whole file into a string. @throws Error(bad_input) naming it if it is missing, a
 /// directory, empty (require_file) or unreadable.
 std::string read_text(const std::string& path);

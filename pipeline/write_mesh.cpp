@@ -29,7 +29,7 @@ void write_mesh_by_extension(const std::string& path, WritePly write_ply, WriteO
     } else {
       ok = write_other(tmp);
     }
-    if (!ok) throw io_failed(path, "cannot write mesh (format '" + ext + "')");
+    if (!ok) throw io_failed(path, "cannot write mesh (format '" + ext + "'): " + why_write_failed());
   });
 }
 
@@ -78,7 +78,7 @@ void write_point_cloud(const std::string& path, const PointCloud& cloud) {
       throw io_failed(path, "unknown point cloud format '" + ext + "', expected .ply or .xyz");
     }
     out.flush();
-    if (!out) throw io_failed(path, "write failed");
+    if (!out) throw io_failed(path, "write failed: " + why_write_failed());
   });
 }
 

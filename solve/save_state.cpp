@@ -37,7 +37,7 @@ void save_state(const std::string& path, const SolverState& s) {
     o.write(reinterpret_cast<const char*>(&n_pairs), sizeof n_pairs);
     for (const auto& h : s.contact_history) put_vec(o, h);
     o.close();  // the last buffer reaches the file here: a full disk shows now, not at the next run
-    if (!o) throw pipeline::io_failed(path, "write failed");
+    if (!o) throw pipeline::io_failed(path, "write failed: " + pipeline::why_write_failed());
   });
 }
 

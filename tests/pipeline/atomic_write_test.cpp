@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
+#include <csignal>
 #include <filesystem>
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
+#include "pipeline/write_mesh.h"
 #include "../bad_input_message.h"
 #include "../scratch_dir.h"
 
@@ -80,4 +83,42 @@ TEST(require_writable_outputs, names_the_output_and_why_before_any_work) {
   const std::string through_link = (dir / "dangling" / "out.ply").string();
   EXPECT_EQ(message(through_link), through_link + ": cannot write in " + (dir / "dangling").string() +
                                        ": No such file or directory");
+}
+
+// A full disk gave "cannot write mesh (format '.ply')" with no reason (fit, segment). Under a file
+// size limit (SIGXFSZ ignored, so the write fails with EFBIG as a full disk fails with ENOSPC) each
+// writer now gives the system's reason, and leaves neither the file nor its temporary.
+TEST(write_atomic, a_write_the_system_refuses_gives_its_reason_and_no_file) {
+  const fs::path dir = scratch_dir() / "limited";
+  fs::create_directories(dir);
+  pipeline::SurfaceMesh mesh;
+  for (int i = 0; i < 500; ++i) {  // a strip of 1000 triangles, ~30 kB as binary PLY
+    const auto a = mesh.add_vertex({double(i), 0, 0}), b = mesh.add_vertex({double(i), 1, 0}),
+               c = mesh.add_vertex({i + 0.5, 0.5, 1}), d = mesh.add_vertex({i + 0.5, 0.5, -1});
+    mesh.add_face(a, b, c);
+    mesh.add_face(b, a, d);
+  }
+  pipeline::PointCloud cloud;
+  cloud.points.assign(5000, pipeline::Point(1, 2, 3));
+  const std::string text(20000, 'x');
+  struct rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  struct rlimit low = old;
+  low.rlim_cur = 4096;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &low), 0);
+  std::vector<std::string> messages;
+  for (const std::string name : {"m.ply", "m.off", "c.ply", "c.xyz", "t.json"}) {
+    const std::string path = (dir / name).string();
+    messages.push_back(error_message(pipeline::ErrorKind::io, [&] {
+      if (name[0] == 'm') pipeline::write_surface_mesh(path, mesh);
+      if (name[0] == 'c') pipeline::write_point_cloud(path, cloud);
+      if (name[0] == 't') pipeline::write_text_atomic(path, text);
+    }));
+  }
+  setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  for (const auto& m : messages) EXPECT_NE(m.find(": File too large"), std::string::npos) << m;
+  EXPECT_EQ(messages[0], (dir / "m.ply").string() + ": cannot write mesh (format '.ply'): File too large");
+  EXPECT_TRUE(fs::is_empty(dir));  // no output, no temporary
 }
