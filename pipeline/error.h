@@ -1,6 +1,7 @@
 #pragma once
 /// Errors of the pipeline. Library code throws pipeline::Error; only a stage's main()
 /// maps the kind to an exit code (see run_main in cli.h).
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -27,6 +28,14 @@ inline std::string format_number(double v) {
   std::ostringstream ss;
   ss << v;
   return ss.str();
+}
+
+/// A position as a message shows it, to 0.1 mm: "(12.3, -4.5, 67.8) mm". Messages name places by
+/// position, which any viewer shows, not by an index a program counted (a file's tags may differ).
+inline std::string format_position_mm(double x, double y, double z) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.1f, %.1f, %.1f) mm", x, y, z);
+  return text;
 }
 
 inline Error bad_input(const std::string& what, const std::string& problem) {

@@ -32,6 +32,11 @@ double triangle_quality(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
   return q * 2.0 / std::sqrt(3.0);
 }
 
+std::string centroid(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
+  const Eigen::Vector3d c = (x[t[0]] + x[t[1]] + x[t[2]]) / 3;
+  return pipeline::format_position_mm(c.x(), c.y(), c.z());
+}
+
 }  // namespace
 
 std::vector<std::vector<int>> skin_neighbours(const Input& in) {
@@ -114,7 +119,9 @@ Columns make_columns(Input& in, const LayerOptions& opt) {
       }
   for (std::size_t i = 0; i < n; ++i)
     if (is_skin[i]) {
-      if (c.dir[i].norm() == 0) throw pipeline::bad_input("surface", "node " + std::to_string(i) + ": zero normal");
+      if (c.dir[i].norm() == 0)
+        throw pipeline::bad_input("surface", "the node at " + pipeline::format_position_mm(x[i].x(), x[i].y(), x[i].z()) +
+                                                 ": zero normal");
       c.dir[i].normalize();
       c.skin.push_back(int(i));
     }
@@ -231,8 +238,9 @@ std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pi
     for (std::size_t e = 0; e < p.tris.size(); ++e) {
       const double q = triangle_quality(x, p.tris[e]);
       if (q < opt.min_scaled_jacobian)
-        throw pipeline::bad_input("surface", "part " + p.name + " triangle " + std::to_string(e) +
-                                                 " too distorted for wedges: shape quality " + pipeline::format_number(q) +
+        throw pipeline::bad_input("surface", "part " + p.name + "'s triangle " + std::to_string(e + 1) + " of " +
+                                                 std::to_string(p.tris.size()) + ", at " + centroid(x, p.tris[e]) +
+                                                 ", too distorted for wedges: shape quality " + pipeline::format_number(q) +
                                                  ", expected >= " + pipeline::format_number(opt.min_scaled_jacobian) +
                                                  " (remesh the surface)");
     }

@@ -32,6 +32,11 @@ int gmsh_type(int dim, int npe) {
   return -1;
 }
 
+std::string position(const FeModel& m, int node) {
+  const Eigen::Vector3d& p = m.nodes[std::size_t(node)];
+  return pipeline::format_position_mm(p.x(), p.y(), p.z());
+}
+
 }  // namespace
 
 const Block* FeModel::find(const std::string& name) const {
@@ -190,7 +195,8 @@ void require_one_oriented_sheet(const FeModel& surface, const std::string& surfa
         used[std::size_t(from)] = 1;
         parent[std::size_t(root(from))] = root(to);
         if (++directed[{from, to}] > 1)  // a flipped triangle, or a third on the edge
-          throw pipeline::bad_input(surface_path, "edge " + std::to_string(from) + "-" + std::to_string(to) +
+          throw pipeline::bad_input(surface_path, "the edge from " + position(surface, from) + " to " +
+                                                      position(surface, to) +
                                                       " runs the same way in two triangles: a triangle flipped, or "
                                                       "more than two triangles on an edge");
       }
@@ -211,8 +217,9 @@ void require_clean_triangles(const FeModel& surface, const std::string& surface_
     for (std::size_t e = 0; e < b.size(); ++e) {
       std::array<int, 3> t = {b.conn[3 * e], b.conn[3 * e + 1], b.conn[3 * e + 2]};
       const auto which = [&] {
-        return "triangle " + std::to_string(e) + " of " + b.name + " (nodes " + std::to_string(b.conn[3 * e]) + " " +
-               std::to_string(b.conn[3 * e + 1]) + " " + std::to_string(b.conn[3 * e + 2]) + ")";
+        const Eigen::Vector3d c = (surface.nodes[t[0]] + surface.nodes[t[1]] + surface.nodes[t[2]]) / 3;
+        return b.name + "'s triangle " + std::to_string(e + 1) + " of " + std::to_string(b.size()) + ", at " +
+               pipeline::format_position_mm(c.x(), c.y(), c.z()) + ",";
       };
       const Eigen::Vector3d &p = surface.nodes[t[0]], &q = surface.nodes[t[1]], &r = surface.nodes[t[2]];
       if (!((q - p).cross(r - p).norm() > 0)) throw pipeline::bad_input(surface_path, which() + " has zero area");

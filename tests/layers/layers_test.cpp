@@ -378,9 +378,11 @@ TEST(require_clean_triangles, names_a_repeated_node_a_zero_area_or_a_repeated_tr
   };
   EXPECT_EQ(message({}), "no error");
   EXPECT_EQ(message({1, 4, 3}), "no error");
-  EXPECT_EQ(message({3, 3, 4}), "triangle 0 of back_of_head (nodes 3 3 4) has zero area");
-  EXPECT_EQ(message({0, 3, 4}), "triangle 0 of back_of_head (nodes 0 3 4) has zero area");  // collinear
-  EXPECT_EQ(message({1, 4, 3, 2, 1, 0}), "triangle 1 of back_of_head (nodes 2 1 0) repeats a triangle of respirator_inner");
+  // Named by position and rank, counted from 1: the file's element tags are not what the model keeps.
+  EXPECT_EQ(message({3, 3, 4}), "back_of_head's triangle 1 of 1, at (13.3, 13.3, 0.0) mm, has zero area");
+  EXPECT_EQ(message({0, 3, 4}), "back_of_head's triangle 1 of 1, at (10.0, 10.0, 0.0) mm, has zero area");  // collinear
+  EXPECT_EQ(message({1, 4, 3, 2, 1, 0}),
+            "back_of_head's triangle 2 of 2, at (3.3, 3.3, 0.0) mm, repeats a triangle of respirator_inner");
 }
 
 // A chin group renamed in the surface, or the chin missing from head_layers_mm, gave a head
@@ -443,7 +445,8 @@ TEST(require_one_oriented_sheet, names_a_flipped_or_fin_edge_and_loose_pieces) {
   };
   EXPECT_EQ(message(), "no error");
   m.blocks[0].conn = {0, 1, 2, 1, 2, 3};  // the second triangle flipped
-  EXPECT_EQ(message(), "edge 1-2 runs the same way in two triangles: a triangle flipped, or more than two triangles on an edge");
+  EXPECT_EQ(message(), "the edge from (10.0, 0.0, 0.0) mm to (0.0, 10.0, 0.0) mm runs the same way in two triangles: a "
+                       "triangle flipped, or more than two triangles on an edge");
   m.blocks[0].conn = {0, 1, 2, 1, 3, 2, 2, 1, 4};  // a fin on the shared edge 1-2
   EXPECT_NE(message().find("runs the same way in two triangles"), std::string::npos);
   m.blocks[0].conn = {0, 1, 2, 1, 3, 2};
