@@ -69,6 +69,104 @@ std::string first_bytes(const std::string& path, std::size_t n) {
   return s;
 }
 
+// A PLY header as far as the checks below need it: each element's name, count and properties in
+// order. CGAL's reader parses the header itself but does not expose it.
+struct PlyProperty {
+  std::string name, index_type;  // index_type: a list's item type ("" for a scalar)
+  bool is_list = false;
+};
+struct PlyElement {
+  std::string name;
+  double count = 0;
+  std::vector<PlyProperty> properties;
+};
+struct PlyHeader {
+  bool complete = false;  // end_header found and every element count parsed
+  bool ascii = false;
+  std::size_t lines = 0;  // lines up to end_header
+  std::vector<PlyElement> elements;
+};
+
+PlyHeader read_ply_header(std::istream& in) {
+  PlyHeader h;
+  for (std::string line; std::getline(in, line);) {
+    ++h.lines;
+    std::istringstream words(line);
+    std::string key, a;
+    words >> key >> a;
+    if (key == "format") h.ascii = a == "ascii";
+    if (key == "element") {
+      PlyElement e{a, 0, {}};
+      if (!(words >> e.count) || !(e.count >= 0)) return h;
+      h.elements.push_back(e);
+    }
+    if (key == "property" && !h.elements.empty()) {
+      PlyProperty p;
+      p.is_list = a == "list";
+      std::string count_type;
+      if (p.is_list) words >> count_type >> p.index_type;
+      words >> p.name;
+      h.elements.back().properties.push_back(p);
+    }
+    if (key == "end_header") {
+      h.complete = true;
+      return h;
+    }
+  }
+  return h;
+}
+
+// An ASCII PLY holds each element on a line of its own, its properties in the header's order. CGAL
+// reads the body as one stream of numbers, so a vertex with a number too many shifted everything
+// after it ("unreadable or truncated PLY", or "bytes after the elements", naming no line), and a
+// file missing its last face line was read without it. Names the first line that differs from
+// the header, or the element where the file ends. Binary files and headers it cannot parse are
+// left to CGAL's reader.
+void require_ascii_ply_lines_match_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const PlyHeader h = read_ply_header(in);
+  if (!h.complete || !h.ascii) return;
+  const auto number = [](const std::string& word, double* v) {
+    char* end = nullptr;
+    *v = std::strtod(word.c_str(), &end);
+    return !word.empty() && *end == '\0';
+  };
+  std::size_t line_no = h.lines;
+  std::string line;
+  for (const PlyElement& e : h.elements)
+    for (double i = 1; i <= e.count; ++i) {
+      do {
+        if (!std::getline(in, line))
+          throw bad_input(path, "truncated: its header declares " + format_number(e.count) + " of element " + e.name +
+                                    ", the file ends after " + format_number(i - 1) + " (line " +
+                                    std::to_string(line_no) + ")");
+        ++line_no;
+      } while (line.find_first_not_of(" \t\r") == std::string::npos);
+      std::istringstream words(line);
+      std::vector<double> values;
+      for (std::string word; words >> word;) {
+        double v = 0;
+        if (!number(word, &v))
+          throw bad_input(path, "line " + std::to_string(line_no) + ": '" + word + "' in " + e.name + " " +
+                                    format_number(i) + " is not a number");
+        values.push_back(v);
+      }
+      std::size_t expected = 0;
+      for (const PlyProperty& p : e.properties) {
+        if (p.is_list) {
+          const double n = expected < values.size() ? values[expected] : 0;
+          if (!(n >= 0 && n == std::floor(n) && n < 1e6)) break;  // left to the size check below
+          expected += std::size_t(n);
+        }
+        ++expected;
+      }
+      if (values.size() != expected)
+        throw bad_input(path, "line " + std::to_string(line_no) + ": " + e.name + " " + format_number(i) + " holds " +
+                                  std::to_string(values.size()) + " numbers, its header declares " +
+                                  std::to_string(expected) + " (hand-edited or damaged file?)");
+    }
+}
+
 // Why a text mesh that CGAL's reader refused is unusable. CGAL reads numbers with
 // istream >> double, which stops at "nan" and "inf" as at a truncation, so a scanner's NaN
 // (organised point clouds mark missing returns with it) would otherwise be reported as a
@@ -107,17 +205,13 @@ std::string why_text_unreadable(const std::string& path, const std::string& what
 // why_text_unreadable's reasons.
 std::string why_ply_unreadable(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  for (std::string line; std::getline(in, line) && line.rfind("end_header", 0) != 0;) {
-    std::istringstream words(line);
-    std::string property, list, count_type, index_type, name;
-    if (words >> property >> list >> count_type >> index_type >> name && property == "property" && list == "list" &&
-        name.rfind("vertex_ind", 0) == 0) {
-      for (const char* small : {"char", "uchar", "int8", "uint8", "short", "ushort", "int16", "uint16"})
-        if (index_type == small)
-          return "its face indices are of type " + index_type +
-                 ", which CGAL's PLY reader does not take (int or uint, 32 bits): convert the file (e.g. in MeshLab)";
-    }
-  }
+  for (const PlyElement& e : read_ply_header(in).elements)
+    for (const PlyProperty& p : e.properties)
+      if (p.is_list && p.name.rfind("vertex_ind", 0) == 0)
+        for (const char* small : {"char", "uchar", "int8", "uint8", "short", "ushort", "int16", "uint16"})
+          if (p.index_type == small)
+            return "its face indices are of type " + p.index_type +
+                   ", which CGAL's PLY reader does not take (int or uint, 32 bits): convert the file (e.g. in MeshLab)";
   return why_text_unreadable(path, "PLY", "end_header");
 }
 
@@ -217,6 +311,7 @@ void require_nothing_after_elements(std::istream& in, const std::string& path) {
 
 void read_ply(const std::string& path, Scan& scan) {
   if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
+  require_ascii_ply_lines_match_header(path);
   std::ifstream in(path, std::ios::binary);
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
@@ -389,14 +484,14 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     // crashed (it indexes vertices it has not read yet).
     {
       std::ifstream in(path, std::ios::binary);
-      std::string line;
       bool vertices_seen = false;
-      while (std::getline(in, line) && line.rfind("end_header", 0) != 0) {
-        vertices_seen = vertices_seen || line.rfind("element vertex", 0) == 0;
-        if (line.rfind("element face", 0) == 0 && !vertices_seen)
+      for (const PlyElement& e : read_ply_header(in).elements) {
+        vertices_seen = vertices_seen || e.name == "vertex";
+        if (e.name == "face" && !vertices_seen)
           throw bad_input(path, "its faces come before its vertices: a mesh a stage wrote lists vertices first");
       }
     }
+    require_ascii_ply_lines_match_header(path);
     // Read as a soup first: CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and
     // on a valid one whose faces do not form a 2-manifold, and it crashes on a face index past
     // the vertices (a corrupted binary file); the soup tells the three apart safely.

@@ -165,11 +165,11 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
   const std::string inf_off = scratch_file("inf.off", "OFF\n3 1 0\n0 0 0\n-inf 0 0\n0 100 0\n3 0 1 2\n");
   EXPECT_EQ(message_of(inf_off), inf_off + ": line 4: a coordinate is NaN or infinite");
   const std::string cut_ply = scratch_file("cut_ascii.ply", header + "0 0 0\n100 0 0\n");
-  EXPECT_EQ(message_of(cut_ply), cut_ply + ": unreadable or truncated PLY");
+  EXPECT_EQ(message_of(cut_ply), cut_ply + ": truncated: its header declares 3 of element vertex, the file ends after 2 (line 11)");
   // a header comment with "inf" in it is not a coordinate
   const std::string commented = scratch_file("commented.ply", "ply\nformat ascii 1.0\ncomment inf nan information\n" +
                                                               header.substr(header.find("element")) + "0 0 0\n100 0 0\n");
-  EXPECT_EQ(message_of(commented), commented + ": unreadable or truncated PLY");
+  EXPECT_EQ(message_of(commented), commented + ": truncated: its header declares 3 of element vertex, the file ends after 2 (line 12)");
   const std::string last_word = scratch_file("nan_at_end.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 nan");
   EXPECT_EQ(message_of(last_word), last_word + ": line 5: a coordinate is NaN or infinite");
   // A count the file cannot hold: CGAL reserved it and the stage died of std::bad_alloc.
@@ -180,6 +180,34 @@ TEST(read_scan, nan_in_an_ascii_ply_or_off_is_named_as_such) {
   pipeline::ScanReadOptions mm;
   mm.unit = pipeline::Unit::mm;
   EXPECT_EQ(pipeline::read_scan(commented_counts, mm).soup.polygons.size(), 1u);
+}
+
+// CGAL reads an ASCII PLY's body as one stream of numbers: a vertex with a number too many or too
+// few was "unreadable or truncated PLY" or "N bytes after the elements", naming no line, and a file
+// without its last face line was read without that face. Each is now named by its line.
+TEST(read_scan, an_ascii_ply_line_that_differs_from_its_header_is_named) {
+  const std::string header = "ply\nformat ascii 1.0\ncomment a tetrahedron\nelement vertex 4\nproperty float x\n"
+                             "property float y\nproperty float z\nelement face 2\n"
+                             "property list uchar int vertex_indices\nend_header\n";
+  const auto message_of = [&](const std::string& name, const std::string& body) {
+    const std::string path = scratch_file(name, header + body);
+    const std::string m = bad_input_message([&] { pipeline::read_scan(path, {pipeline::Unit::mm}); });
+    EXPECT_EQ(m, bad_input_message([&] { pipeline::read_surface_mesh(path); }));
+    return m.substr(m.find(name) + name.size());
+  };
+  const std::string v = "0 0 0\n100 0 0\n0 100 0\n0 0 100\n", f = "3 0 1 2\n3 0 2 3\n";
+  EXPECT_EQ(message_of("extra.ply", "0 0 0\n100 0 0 7\n0 100 0\n0 0 100\n" + f),
+            ": line 12: vertex 2 holds 4 numbers, its header declares 3 (hand-edited or damaged file?)");
+  EXPECT_EQ(message_of("fewer.ply", "0 0 0\n100 0\n0 100 0\n0 0 100\n" + f),
+            ": line 12: vertex 2 holds 2 numbers, its header declares 3 (hand-edited or damaged file?)");
+  EXPECT_EQ(message_of("face.ply", v + "3 0 1 2\n3 0 2 3 1\n"),
+            ": line 16: face 2 holds 5 numbers, its header declares 4 (hand-edited or damaged file?)");
+  EXPECT_EQ(message_of("word.ply", "0 0 0\n100 0 0\n0 abc 0\n0 0 100\n" + f), ": line 13: 'abc' in vertex 3 is not a number");
+  EXPECT_EQ(message_of("last.ply", v + "3 0 1 2\n"),
+            ": truncated: its header declares 2 of element face, the file ends after 1 (line 15)");
+  // blank lines and CRLF endings are read
+  const std::string crlf = scratch_file("crlf.ply", header + "0 0 0\r\n100 0 0\r\n\n0 100 0\n0 0 100\n" + f);
+  EXPECT_EQ(pipeline::read_scan(crlf, {pipeline::Unit::mm}).soup.polygons.size(), 2u);
 }
 
 // A later stage's input that repair has not made manifold is named as such, apart from a broken
@@ -196,7 +224,7 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
   const std::string fin = scratch_file("fin.ply", header + points + "3 0 1 2\n3 1 0 3\n3 0 1 4\n");
   EXPECT_EQ(message_of(fin), fin + ": not a 2-manifold polygon mesh (3 faces read; run repair first)");
   const std::string cut = scratch_file("cut_mesh.ply", header + points + "3 0 1 2\n3 1 0");
-  EXPECT_EQ(message_of(cut), cut + ": unreadable or truncated PLY");
+  EXPECT_EQ(message_of(cut), cut + ": line 16: face 2 holds 3 numbers, its header declares 4 (hand-edited or damaged file?)");
   const std::string two = scratch_file("two.ply", header + points + "3 0 1 2\n3 1 0 3\n3 2 1 4\n");
   EXPECT_EQ(message_of(two), "no error");
   // A face index past the vertices (a corrupted file) crashed CGAL's Surface_mesh reader, and so
