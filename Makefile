@@ -4,6 +4,7 @@
 #   make cases-all             all 30 cases;  make help  for more
 # Both install the missing Debian packages first (scripts/install-deps.sh).
 
+include scripts/user_variables.mk
 BUILD ?= build
 JOBS ?= 2
 export BUILD
@@ -14,6 +15,7 @@ export BUILD
 help:
 	@echo "make case=<headform>_<respirator>   e.g. make case=medium_onesize (cases in data/cases/)"
 	@echo "   HEADFORM_SCAN=path RESPIRATOR_SCAN=path   swap in your own scans"
+	@echo "   HEADFORM_UNIT=u RESPIRATOR_UNIT=u         their length unit: auto (default), mm, cm, m, in"
 	@echo "   LANDMARKS=file.json                       your own head landmarks (README.md, Stages)"
 	@echo "   BUILD=dir (default build)  JOBS=n (default 2: compile jobs and tests at once)"
 	@echo "make stages      build only the stage programs"

@@ -6,6 +6,7 @@
 // nothing runs twice.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -145,6 +146,118 @@ TEST_F(CasesMake, a_rebuilt_stage_reruns_itself_and_what_follows_and_a_failure_l
   // Fixed program: the next run completes the case.
   ASSERT_EQ(make("case=small_onesize", &ran), 0) << log_text(ran);
   EXPECT_TRUE(fs::exists(build_ / "cases/small_onesize/model.msh"));
+}
+
+// Every file and link under the BUILD folder with its size, mtime and link target: what a run
+// that must change nothing may not change.
+std::string folder_state(const fs::path& root) {
+  std::vector<std::string> lines;
+  for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator(); ++it) {
+    const fs::path& p = it->path();
+    std::string line = p.lexically_relative(root).string();
+    if (fs::is_symlink(p)) {
+      line += " -> " + fs::read_symlink(p).string();
+      it.disable_recursion_pending();
+    } else if (fs::is_regular_file(p)) {
+      line += " " + std::to_string(fs::file_size(p)) + " " +
+              std::to_string(fs::last_write_time(p).time_since_epoch().count());
+    }
+    if (p.filename() != "log.txt" && p.filename() != "make.out") lines.push_back(line);
+  }
+  std::sort(lines.begin(), lines.end());
+  std::string all;
+  for (const auto& l : lines) all += l + "\n";
+  return all;
+}
+
+// make -n rearranged the case's folders and rewrote inputs.txt while the makefile was read; a
+// scan replaced by older content at the same path was taken as up to date; the same file under
+// another spelling re-ran everything.
+TEST_F(CasesMake, a_dry_run_changes_nothing_and_a_scan_is_known_by_its_content) {
+  std::vector<std::string> ran;
+  const fs::path scan = build_ / "my_head.ply";
+  std::ofstream(scan) << "ply first\n";
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0) << log_text(ran);
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);  // back: own head kept as head.previous
+  const std::string before = folder_state(build_);
+  ASSERT_EQ(make("-n case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0) << log_text(ran);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  EXPECT_EQ(folder_state(build_), before) << log_text(ran);
+  ASSERT_EQ(make("-n case=small_onesize", &ran), 0);
+  EXPECT_EQ(folder_state(build_), before) << "a dry run of another case made its folders";
+  EXPECT_NE(file_text(build_ / "make.out").find("/reconstruct --in "), std::string::npos)  // it still says what it would run
+      << file_text(build_ / "make.out");
+
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0) << log_text(ran);
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  // the same file, spelt through a "." folder and a link
+  fs::create_directory_symlink(build_, build_.string() + "_link");
+  const std::string other_spelling = build_.string() + "_link/./my_head.ply";
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + other_spelling, &ran), 0) << log_text(ran);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  fs::remove(build_.string() + "_link");
+  // other content, with an mtime older than every output
+  std::ofstream(scan) << "ply second\n";
+  ASSERT_EQ(std::system(("touch -d 2000-01-01 " + scan.string()).c_str()), 0);
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0) << log_text(ran);
+  EXPECT_EQ(count(ran, "reconstruct", "/cases/medium_onesize/head/"), 1) << log_text(ran);
+  EXPECT_EQ(count(ran, "assemble", "/cases/medium_onesize/"), 1) << log_text(ran);
+}
+
+// Each user error stops make before any folder is touched, with one line naming the variable.
+TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
+  std::vector<std::string> ran;
+  const fs::path scan = build_ / "my_head.ply";
+  std::ofstream(scan) << "ply\n";
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0) << log_text(ran);
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0);
+  ASSERT_TRUE(fs::exists(build_ / "cases/medium_onesize/head.previous/layers.msh"));
+  fs::create_directories(build_ / "with space");
+  std::ofstream(build_ / "with space/scan.ply") << "ply\n";
+  const std::string before = folder_state(build_);
+  const std::pair<std::string, std::string> refused[] = {
+      {"HEADFORM_SCAN=/nonexistent.stl", "HEADFORM_SCAN=/nonexistent.stl: no such file"},
+      {"HEADFORM_SCAN=", "HEADFORM_SCAN is empty: give a file, or leave HEADFORM_SCAN out for the default"},
+      {"'HEADFORM_SCAN=" + (build_ / "with space/scan.ply").string() + "'", "make cannot take a path with a space"},
+      {"HEADFROM_SCAN=" + scan.string(), "unknown variable HEADFROM_SCAN="},
+      {"HEADFORM_UNIT=in", "HEADFORM_UNIT=in without HEADFORM_SCAN=: the generated scans are in mm"},
+      {"HEADFORM_SCAN=" + scan.string() + " HEADFORM_UNIT=ft", "HEADFORM_UNIT=ft: expected auto, mm, cm, m or in"},
+      {"LANDMARKS=/nonexistent.json", "LANDMARKS=/nonexistent.json: no such file"},
+  };
+  for (const auto& [args, expected] : refused) {
+    EXPECT_NE(make("case=medium_onesize " + args, &ran), 0) << args;
+    EXPECT_NE(file_text(build_ / "make.out").find(expected), std::string::npos) << args << "\n" << log_text(ran);
+    EXPECT_TRUE(ran.empty()) << args;
+    EXPECT_EQ(folder_state(build_), before) << args;
+  }
+  EXPECT_NE(make("case=../cases/medium_onesize", &ran), 0);
+  EXPECT_NE(file_text(build_ / "make.out").find("a case is a file name of data/cases/ without .mk"), std::string::npos);
+  // the case's own landmarks output given back as LANDMARKS (it made a circular rule)
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0);
+  const std::string own = (build_ / "cases/medium_onesize/head/landmarks.json").string();
+  EXPECT_NE(make("case=medium_onesize HEADFORM_SCAN=" + scan.string() + " LANDMARKS=" + own, &ran), 0);
+  EXPECT_NE(file_text(build_ / "make.out").find("is this case's own landmarks output"), std::string::npos)
+      << file_text(build_ / "make.out");
+}
+
+// A scan in inches goes through make with HEADFORM_UNIT; when a case's inputs change, what the old
+// ones made is removed, so a failed run leaves no model of the previous setup.
+TEST_F(CasesMake, a_unit_reaches_reconstruct_and_a_changed_setup_leaves_no_stale_model) {
+  std::vector<std::string> ran;
+  const fs::path scan = build_ / "my_head.ply";
+  std::ofstream(scan) << "ply\n";
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string() + " HEADFORM_UNIT=in", &ran), 0) << log_text(ran);
+  EXPECT_NE(file_text(build_ / "cases/medium_onesize/head/reconstructed.ply").find("--unit in"), std::string::npos);
+  ASSERT_TRUE(fs::exists(build_ / "cases/medium_onesize/model.msh"));
+  ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string() + " HEADFORM_UNIT=in", &ran), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  EXPECT_NE(make("case=medium_onesize HEADFORM_SCAN=" + scan.string() + " HEADFORM_UNIT=cm", &ran,
+                 "FAIL_STAGE=reconstruct"),
+            0);
+  EXPECT_EQ(count(ran, "reconstruct", "/cases/medium_onesize/head/"), 1) << log_text(ran);
+  for (const char* stale : {"head/repaired.ply", "head/layers.msh", "straps.msh", "model.msh", "stage1.json"})
+    EXPECT_FALSE(fs::exists(build_ / "cases/medium_onesize" / stale)) << stale;
 }
 
 }  // namespace

@@ -169,7 +169,7 @@ TEST(swapped_real_scan, niosh_large_in_metres_runs_through_every_stage_to_the_mo
   EXPECT_FALSE(fs::is_symlink(head));
   EXPECT_EQ(last_line(text),
             "case large_onesize: not yet part of the pipeline (next): stage-I/II simulation (solve)");
-  EXPECT_NE(text.find("case large_onesize: up to date through the stages reconstruct repair align landmarks "
+  EXPECT_NE(text.find("case large_onesize: done through the stages reconstruct repair align landmarks "
                       "segment fit surface_mesh layers straps assemble;"),
             std::string::npos);
 

@@ -1,0 +1,6 @@
+# The variables a user gives make on its command line (README.md), checked by the top Makefile
+# and Makefile.cases alike. A misspelt one was taken as a new variable and ignored:
+# HEADFROM_SCAN= ran the generated head, CASE= printed the help with exit 0.
+USER_VARIABLES := case HEADFORM_SCAN RESPIRATOR_SCAN LANDMARKS HEADFORM_UNIT RESPIRATOR_UNIT BUILD JOBS
+$(foreach v,$(.VARIABLES),$(if $(filter command line,$(origin $(v))),$(if $(filter $(v),$(USER_VARIABLES)),,\
+  $(error unknown variable $(v)=$($(v)): make takes $(USER_VARIABLES) (see make help)))))
