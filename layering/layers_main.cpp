@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
       .option("-k", "--kind", &kind, "head or respirator")
       .option("-n", "--elements-per-layer", &opt.elements_per_layer, "element layers through each tissue", 1, 20)
       .option("-t", "--elements-per-tissue", &per_tissue, "per-material override, e.g. fat=3,skin=2")
-      .option("-s", "--smoothing-mm", &opt.smoothing_mm, "reach of the smoothing of the offset directions [mm] (default 14)", 0.0, 100.0)
+      .option("-s", "--smoothing-mm", &opt.smoothing_mm, "reach of the smoothing of the offset directions [mm]", 0.0, 100.0)
       .option("-j", "--min-jacobian", &opt.min_scaled_jacobian, "minimum scaled Jacobian of every wedge", 0.01, 0.9)
       .option("-r", "--report", &report_path, "optional JSON report (counts, quality, volumes)");
   return pipeline::run_main(cli, argc, argv, [&] {

@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   cli.option("-i", "--in", &in, "aligned triangle mesh (PLY/OFF/STL/OBJ, mm, head frame)", pipeline::required);
   cli.option("-l", "--landmarks", &landmarks, "landmarks JSON (required for --kind head)");
   cli.option("-o", "--out", &out, "segmented mesh (.ply, face property 'part')", pipeline::required);
-  cli.option("-k", "--kind", &kind, "head | respirator (default head)");
+  cli.option("-k", "--kind", &kind, "head | respirator");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--landmarks", landmarks}, {"--out", out}});
     // 1. Options

@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
       .option("-o", "--out", &out, "output model (.msh)", pipeline::required)
       .option("-1", "--deck1", &deck1, "output stage I deck (.json)", pipeline::required)
       .option("-2", "--deck2", &deck2, "output stage II deck (.json)", pipeline::required)
-      .option("-S", "--state1", &state1, "stage I state file named in the stage II deck")
+      .option("-S", "--state1", &state1, "stage I state file named in the stage II deck, relative to that deck's folder")
       .option("-g", "--gap-mm", &opt.gap_mm, "minimum respirator-skin gap [mm]", 0.1, 20)
       .option("-b", "--bridge-offset-mm", &opt.bridge_offset_mm, "rim top below the sellion [mm]", -30, 60)
       .option("-t", "--strap-thickness-mm", &strap_t, "strap shell thickness [mm]", 0.1, 5);

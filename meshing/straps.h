@@ -18,7 +18,7 @@ namespace meshing {
 struct StrapOptions {
   double length_mm = 300;     ///< unstretched length of each strap along its centre line [mm], (50, 1000)
   double width_mm = 6;        ///< band width [mm], (1, 30)
-  double thickness_mm = 1;    ///< shell thickness [mm] (written to the deck by assemble)
+  double thickness_mm = 1;    ///< shell thickness [mm]: sets the clearance below; the decks take assemble's own value
   double element_mm = 3;      ///< target element length along the strap [mm]
   double gap_mm = 1;          ///< minimum distance of the band's mid-surface to the skin [mm] (+ half the thickness)
   /// Largest stretch [% of length_mm] the head's outline between the attachments may ask of a

@@ -22,7 +22,10 @@ int main(int argc, char** argv) {
       .option("-o", "--out", &out, "output straps (.msh)", pipeline::required)
       .option("-L", "--length-mm", &opt.length_mm, "unstretched strap length [mm]", 50, 1000)
       .option("-w", "--width-mm", &opt.width_mm, "strap width [mm]", 1, 30)
-      .option("-t", "--thickness-mm", &opt.thickness_mm, "strap thickness [mm]", 0.1, 5)
+      .option("-t", "--thickness-mm", &opt.thickness_mm,
+              "strap thickness [mm]: half of it is added to the straps' clearance off the skin; the decks take "
+              "assemble's --strap-thickness-mm, give both the same",
+              0.1, 5)
       .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement, as assemble's [mm]", 0.1, 20)
       .option("-b", "--bridge-offset-mm", &opt.place.bridge_offset_mm, "rim top below the sellion, as assemble's [mm]",
               -30, 60)

@@ -27,10 +27,10 @@ int main(int argc, char** argv) {
   pipeline::Cli cli("surface_mesh", "Meshes a fitted, part-labelled surface into a conforming triangle mesh.");
   cli.option("-i", "--in", &in, "fitted mesh (.ply with face property 'part')", pipeline::required);
   cli.option("-o", "--out", &out, "surface mesh (.msh 4.1)", pipeline::required);
-  cli.option("-k", "--kind", &kind, "head | respirator (default head)");
-  cli.option("-s", "--size", &size_mm, "edge length on the face parts / respirator [mm] (default 6.4: the generated medium head gets ~13,000 wedges in layers, the paper's model 13,570)", 0.5, 50.0);
-  cli.option("-b", "--back-size", &back_mm, "edge length on back_of_head [mm] (default 7: a rigid shell, no wedges; much coarser than --size gives poor triangles at the cut)", 0.5, 50.0);
-  cli.option("-g", "--min-gamma", &min_gamma, "fail below this triangle quality (default 0.3)", 0.0, 1.0);
+  cli.option("-k", "--kind", &kind, "head | respirator");
+  cli.option("-s", "--size", &size_mm, "edge length on the face parts / respirator [mm] (6.4 gives the generated medium head ~13,000 wedges in layers, the paper's model 13,570)", 0.5, 50.0);
+  cli.option("-b", "--back-size", &back_mm, "edge length on back_of_head [mm] (a rigid shell, no wedges; much coarser than --size gives poor triangles at the cut)", 0.5, 50.0);
+  cli.option("-g", "--min-gamma", &min_gamma, "fail below this triangle quality", 0.0, 1.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
     if (kind != "head" && kind != "respirator")

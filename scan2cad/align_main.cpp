@@ -27,11 +27,11 @@ int main(int argc, char** argv) {
   int samples = 4000;
   pipeline::Cli cli("align", "Aligns a head or respirator surface into the paper's frame (x lateral, y up, z out of the face; mm).");
   cli.option("-i", "--in", &in, "input surface mesh (PLY/STL/OBJ/OFF), any unit", pipeline::required);
-  cli.option("-k", "--kind", &kind_name, "head | respirator (default head)");
-  cli.option("-u", "--unit", &unit_name, "unit of the input: auto, mm, cm, m, in (default auto)");
-  cli.option("-o", "--out", &out, "aligned surface (PLY, mm)", pipeline::required);
+  cli.option("-k", "--kind", &kind_name, "head | respirator");
+  cli.option("-u", "--unit", &unit_name, "unit of the input: auto, mm, cm, m, in");
+  cli.option("-o", "--out", &out, "aligned surface (.ply, .off, .obj or .stl; mm)", pipeline::required);
   cli.option("-t", "--transform", &transform_path, "4x4 transform (JSON)", pipeline::required);
-  cli.option("-s", "--samples", &samples, "surface samples for the symmetry search (default 4000)", 500, 100000);
+  cli.option("-s", "--samples", &samples, "surface samples for the symmetry search", 500, 100000);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}, {"--transform", transform_path}});
     // 1. Options (run_main has logged them)

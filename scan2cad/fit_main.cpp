@@ -29,10 +29,10 @@ int main(int argc, char** argv) {
   pipeline::Cli cli("fit", "Fits a smooth part-wise surface (constrained isotropic remeshing) to a segmented surface.");
   cli.option("-i", "--in", &in, "segmented mesh (.ply with face property 'part')", pipeline::required);
   cli.option("-o", "--out", &out, "fitted surface (.ply with face property 'part', or .msh)", pipeline::required);
-  cli.option("-k", "--kind", &kind, "head | respirator (default head)");
-  cli.option("-e", "--edge", &edge_mm, "target edge length of the fitted surface [mm] (default 2)", 0.3, 20.0);
+  cli.option("-k", "--kind", &kind, "head | respirator");
+  cli.option("-e", "--edge", &edge_mm, "target edge length of the fitted surface [mm]", 0.3, 20.0);
   cli.option("-r", "--refine-above", &refine_above_mm,
-             "heads: remesh at edge/2 where the uniform fit misses the input by more than this [mm] (default 0.5; 0 = off)", 0.0, 10.0);
+             "heads: remesh at edge/2 where the uniform fit misses the input by more than this [mm] (0 = off)", 0.0, 10.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
     // 1. Options and input

@@ -23,13 +23,13 @@ int main(int argc, char** argv) {
   double seed = 1;
   pipeline::Cli cli("generate_scan",
                     "Simulates a structured-light scan (noise, holes, outliers, spikes) of a generated "
-                    "headform or respirator, or of a given mesh.");
+                    "headform or respirator (--kind, --id and --params), or of a given mesh (--from-mesh).");
   cli.option("-k", "--kind", &rq.kind, "generated model: head or respirator")
       .option("-d", "--id", &rq.id, "model id in the params file (e.g. medium, onesize)")
       .option("-p", "--params", &rq.params_path, "params JSON (data/generator/headforms.json, respirators.json)")
       .option("-m", "--from-mesh", &rq.mesh_path, "scan this mesh instead (PLY/STL/OBJ/OFF)")
       .option("-o", "--out", &out, "output point cloud (.ply binary or .xyz)", pipeline::required)
-      .option("-c", "--clean-mesh", &clean_mesh, "also write the clean reference surface (.ply/.off/.stl)")
+      .option("-c", "--clean-mesh", &clean_mesh, "also write the clean reference surface (.ply/.off/.obj/.stl)")
       .option("-H", "--holes-out", &holes_out, "also write the holes made (JSON)")
       .option("-n", "--points", &rq.points, "surface samples before holes/outliers (0: from --spacing-mm)", 0, 50000000)
       .option("-s", "--spacing-mm", &rq.spacing_mm, "mean point spacing when --points is 0 [mm]", 0.1,
