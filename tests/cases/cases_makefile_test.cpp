@@ -241,6 +241,29 @@ TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
       << file_text(build_ / "make.out");
 }
 
+// A landmarks file alone changes nothing before the landmarks stage: the case's own head chain
+// starts from the shared aligned head (it re-ran reconstruct, repair and align, ~45 s).
+TEST_F(CasesMake, a_landmarks_file_alone_starts_from_the_shared_aligned_head) {
+  std::vector<std::string> ran;
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  const std::string shared = folder_state(build_ / "heads");
+  const fs::path landmarks = build_ / "my_landmarks.json";
+  std::ofstream(landmarks) << "{}\n";
+  ASSERT_EQ(make("case=medium_onesize LANDMARKS=" + landmarks.string(), &ran), 0) << log_text(ran);
+  for (const char* s : {"generate_scan", "reconstruct", "repair", "align"}) EXPECT_EQ(count(ran, s, ""), 0) << s << log_text(ran);
+  for (const char* s : {"landmarks", "segment", "fit", "surface_mesh", "layers"})
+    EXPECT_EQ(count(ran, s, "/cases/medium_onesize/head/"), 1) << s << log_text(ran);
+  EXPECT_NE(file_text(build_ / "make.out").find("/bin/segment --in " + (build_ / "heads/medium/aligned.ply").string()),
+            std::string::npos)
+      << log_text(ran);
+  EXPECT_EQ(ran.size(), 7u) << log_text(ran);  // the five, straps, assemble
+  EXPECT_EQ(folder_state(build_ / "heads"), shared) << "the shared chain must be untouched";
+  ASSERT_EQ(make("case=medium_onesize LANDMARKS=" + landmarks.string(), &ran), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0);
+  EXPECT_EQ(ran.size(), 2u) << log_text(ran);  // straps and assemble on the shared head again
+}
+
 // A scan in inches goes through make with HEADFORM_UNIT; when a case's inputs change, what the old
 // ones made is removed, so a failed run leaves no model of the previous setup.
 TEST_F(CasesMake, a_unit_reaches_reconstruct_and_a_changed_setup_leaves_no_stale_model) {
