@@ -46,8 +46,15 @@ int main(int argc, char** argv) {
     pipeline::GmshSession session;
     progress.step("meshing");
     std::size_t total = 0;
-    const auto parts =
-        pipeline::naming_file(in, [&] { return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma); });
+    meshing::SurfaceMeshRetries retries;
+    const auto parts = pipeline::naming_file(
+        in, [&] { return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma, 3, &retries); });
+    for (const auto& f : retries.failed) pipeline::log("surface_mesh", f + "; meshed again 0.8 times finer");
+    if (!retries.failed.empty())
+      pipeline::log("surface_mesh", "meshed at size " + pipeline::format_number(retries.size_mm) + " mm" +
+                                        (kind == "head" ? ", back " + pipeline::format_number(retries.back_size_mm) + " mm"
+                                                        : std::string()) +
+                                        " instead of " + pipeline::format_number(size_mm) + " mm");
     for (const auto& p : parts) {
       char line[160];
       std::snprintf(line, sizeof line, "%-16s %6zu triangles  gamma min %.3f mean %.3f", p.name.c_str(), p.triangles,

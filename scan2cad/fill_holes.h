@@ -3,7 +3,8 @@
 ///
 /// Rule for which boundary loops are holes: on a head every loop is a hole (the output is
 /// closed). On a respirator the loop with the longest perimeter is the rim the shell is meant
-/// to have and stays open; every other loop is a hole.
+/// to have and stays open, if it is longer than the respirator's largest extent (a rim goes round
+/// the nose and mouth; a closed shell has none); every other loop is a hole.
 #include <cstddef>
 #include <vector>
 

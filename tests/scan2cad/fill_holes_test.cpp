@@ -65,6 +65,19 @@ TEST(fill_holes, respirator_keeps_its_largest_loop_open) {
   EXPECT_EQ(loops(m), 1u);
 }
 
+// A closed shell has no rim: a few open edges in it (the real Conforming cup's 4 mm gap) were kept
+// open as its "rim". The rim goes round the face: it is longer than the object's extent.
+TEST(fill_holes, respirator_without_a_rim_long_enough_fills_every_loop) {
+  auto m = test_meshes::mesh_of(test_meshes::sphere_soup(50, 60));
+  cut_hole(m, {0, 0, 50}, 6.0);
+  const auto holes = scan2cad::fill_holes(m, scan2cad::ScanKind::respirator);
+  ASSERT_EQ(holes.size(), 1u);
+  EXPECT_LT(holes[0].perimeter_mm, 100.0);
+  EXPECT_FALSE(holes[0].kept_open);
+  EXPECT_TRUE(holes[0].filled);
+  EXPECT_TRUE(CGAL::is_closed(m));
+}
+
 TEST(fill_holes, head_fills_every_loop) {
   auto m = test_meshes::mesh_of(test_meshes::sphere_soup(50, 60));
   cut_hole(m, {0, 0, -50}, 70.0);
