@@ -76,7 +76,7 @@ std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, c
     tried.failed.push_back(failure);
     if (attempt == max_retries)
       throw pipeline::Error(pipeline::ErrorKind::algorithm,
-                            failure + (attempt ? " (and " + std::to_string(attempt) + " larger sizes)" : std::string()) +
+                            failure + (attempt ? " (and at " + std::to_string(attempt) + " larger sizes)" : std::string()) +
                                 ": try a smaller --size, or a lower --min-gamma");
     gmsh::model::remove();  // this attempt's model; the next one adds its own
     size_mm *= 0.8;

@@ -40,8 +40,10 @@ struct SurfaceMeshRetries {
 
 /// Builds the surface mesh in the CURRENT gmsh model (gmsh initialized by the caller). Where two
 /// constrained lines run closer than the size (the real Conforming cup's 1 mm rib: gamma 0.16 at
-/// 6.4 mm), no triangle between them is good; the mesh is then made again with both sizes 0.8
-/// times smaller, up to `max_retries` times (the Conforming cup passes at 5.1 mm).
+/// 6.4 mm; the real Flex face seal's rim and a crease 4 mm from it), no triangle between them is
+/// good; the mesh is then made again with both sizes 0.8 times smaller, up to `max_retries` times
+/// (6: down to a quarter of the size; the Conforming cup passes at 4.1 mm, the Flex seal at 2.6).
+/// Each attempt takes well under a second on a respirator.
 /// @param[in] fitted       triangle mesh [mm] with int face property "f:part"
 /// @param[in] kind         "head" or "respirator" (one part, respirator_inner)
 /// @param[in] size_mm      target edge length on the face parts / the respirator [mm]
@@ -52,6 +54,6 @@ struct SurfaceMeshRetries {
 ///         or the minimum gamma is below `min_gamma` after the last retry
 std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, const std::string& kind,
                                           double size_mm, double back_size_mm, double min_gamma = 0.3,
-                                          int max_retries = 3, SurfaceMeshRetries* retries = nullptr);
+                                          int max_retries = 6, SurfaceMeshRetries* retries = nullptr);
 
 }  // namespace meshing

@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     std::size_t total = 0;
     meshing::SurfaceMeshRetries retries;
     const auto parts = pipeline::naming_file(
-        in, [&] { return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma, 3, &retries); });
+        in, [&] { return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma, 6, &retries); });
     for (const auto& f : retries.failed) pipeline::log("surface_mesh", f + "; meshed again 0.8 times finer");
     if (!retries.failed.empty())
       pipeline::log("surface_mesh", "meshed at size " + pipeline::format_number(retries.size_mm) + " mm" +

@@ -245,6 +245,7 @@ std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pi
                                                  " (remesh the surface)");
     }
   const auto nbr = skin_neighbours(in);
+  std::string last;  // the last pass's bad wedges: how many, what and where, for the error
   for (int iter = 0; iter < opt.max_fix_iterations; ++iter) {
     // Build the current wedges (all parts) and shells as one model.
     FeModel m;
@@ -296,6 +297,7 @@ std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pi
       if (bad.empty()) return pairs.size();  // pairs of shell triangles: no column moves them
     }
     if (progress) progress->step("fix pass " + std::to_string(iter + 1) + ": " + std::to_string(bad.size()) + " " + what);
+    last = std::to_string(bad.size()) + " " + what + ", the first on the skin at " + centroid(x, owner[*bad.begin()].first);
     // Two causes, two fixes. If the wedge's skin triangle with its column directions (depth-free:
     // a 0.1 mm prism) is already below the threshold, the columns lean too far: turn them toward
     // the triangle's normal and keep the depth. Otherwise the deep part is squeezed: thin locally.
@@ -325,8 +327,9 @@ std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pi
     }
     limit_depth_gradient(nbr, x, c);
   }
-  throw pipeline::algorithm_failed("layers", "wedges still inverted, distorted or intersecting after " +
-                                                 std::to_string(opt.max_fix_iterations) + " thinning passes");
+  throw pipeline::Error(pipeline::ErrorKind::algorithm,
+                        "wedges still inverted, distorted or intersecting after " + std::to_string(opt.max_fix_iterations) +
+                            " thinning passes: " + last + " (a fold or a gap narrower than the layers?)");
 }
 
 void element_faces(const FeModel& m, std::vector<Tri>* tris, std::vector<std::pair<int, int>>* owner) {
