@@ -77,16 +77,6 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
            << unit_name(u);
       throw bad_input(what, ss.str());
     }
-    // The units are tried from the smallest: a larger one reads the object larger still.
-    if (size_mm > largest_real_share_of_extent * expected_mm) {
-      std::ostringstream ss;
-      ss << "largest extent " << extent << " is " << format_number(size_mm) << " mm in " << unit_name(u) << ", over "
-         << largest_real_share_of_extent << " times an object of about " << expected_mm
-         << " mm: an object of another kind (see --kind), or more than the object? If the size is right, force the "
-            "unit with --unit "
-         << unit_name(u);
-      throw bad_input(what, ss.str());
-    }
     return u;
   }
   std::ostringstream ss;

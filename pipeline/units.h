@@ -22,6 +22,8 @@ inline constexpr double smallest_real_share_of_extent = 0.6;
 /// Nor is any over 1.6 of it: a head with its neck is 285-302 mm (NIOSH medium, large), 400 mm is
 /// a bust; a respirator 112-133 mm (the generated and the shared cups), 208 mm is a head given as a
 /// respirator (285 mm), which passed reconstruct, repair and align before segment refused it.
+/// Checked once the outliers (reconstruct) or the debris (repair) are gone, not on the file's box:
+/// one stray point a metre off is a scanner's, not the object's.
 inline constexpr double largest_real_share_of_extent = 1.6;
 
 /// head_extent_mm for "head", respirator_extent_mm for "respirator". @throws Error(usage) otherwise.

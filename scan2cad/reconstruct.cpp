@@ -613,7 +613,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     throw pipeline::bad_input("point cloud", "only " + std::to_string(pn.size()) +
                                                  " points left after outlier removal, expected at least " +
                                                  std::to_string(min_points));
-  if (opt.min_extent_mm > 0) {
+  if (opt.min_extent_mm > 0 || opt.max_extent_mm > 0) {
     std::vector<Point> kept(pn.size());
     std::transform(pn.begin(), pn.end(), kept.begin(), [](const PN& p) { return p.first; });
     const double extent_mm = pipeline::largest_extent(kept);
@@ -623,6 +623,12 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
                                                    " mm of the smallest " + scan_kind_name(kind) +
                                                    ": an object of another kind (see --kind)? If the size is "
                                                    "right, force the unit with --unit");
+    if (opt.max_extent_mm > 0 && extent_mm > opt.max_extent_mm)
+      throw pipeline::bad_input("point cloud", "without its outliers it spans " + pipeline::format_number(extent_mm) +
+                                                   " mm, over the " + pipeline::format_number(opt.max_extent_mm) +
+                                                   " mm of the largest " + scan_kind_name(kind) +
+                                                   ": an object of another kind (see --kind), or more than the "
+                                                   "object? If the size is right, force the unit with --unit");
   }
   // Points on a plane or a line: CGAL 5.5's Poisson crashes when its Delaunay triangulation is
   // flat and never finishes contouring when it is nearly so (a plane with 0.001 mm of noise ran

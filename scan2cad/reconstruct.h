@@ -123,6 +123,9 @@ struct ReconstructOptions {
   /// detected the unit (pipeline::smallest_real_share_of_extent): the unit's own check sees the
   /// outliers too, which made a cup scan given as a head 159 mm across instead of 112.
   double min_extent_mm = 0;
+  /// [mm], 0 = no check: nor more than this (the CLI: 1.6 of the kind's size when it detected the
+  /// unit, pipeline::largest_real_share_of_extent): a head given as a respirator
+  double max_extent_mm = 0;
   /// the points of a table or turntable the object stood on are removed after the outliers
   /// (remove_support_plane.h); false keeps them
   bool remove_support = true;
@@ -167,7 +170,7 @@ struct ReconstructStats {
 /// @param[out] stats  optional
 /// @return a triangle mesh [mm], outward-oriented (Poisson: oriented before its hole fills are cut)
 /// @throws pipeline::Error(bad_input) when the cloud has fewer than 100 points (after outlier
-///         removal) — too few to define a surface —, spans less than opt.min_extent_mm, lies on
+///         removal) — too few to define a surface —, spans less than opt.min_extent_mm or more than opt.max_extent_mm, lies on
 ///         a plane or a line, or fills a volume; Error(algorithm) when CGAL fails.
 pipeline::SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind,
                                   const ReconstructOptions& opt, ReconstructStats* stats = nullptr);

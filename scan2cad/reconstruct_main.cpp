@@ -87,8 +87,10 @@ int main(int argc, char** argv) {
                                        " faces), passed through unchanged but for the unit → " + out);
       return 0;
     }
-    if (ropt.unit == pipeline::Unit::automatic)
+    if (ropt.unit == pipeline::Unit::automatic) {
       opt.min_extent_mm = pipeline::smallest_real_share_of_extent * ropt.expected_size_mm;
+      opt.max_extent_mm = pipeline::largest_real_share_of_extent * ropt.expected_size_mm;
+    }
     scan2cad::ReconstructStats st;
     const pipeline::SurfaceMesh mesh =
         pipeline::naming_file(in, [&] { return scan2cad::reconstruct(scan.cloud, kind, opt, &st); });

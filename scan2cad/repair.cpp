@@ -119,6 +119,13 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
                                           std::to_string(int(std::lround(100 * second_share))) +
                                           " % of the area: a scan cut in two, or two objects? repair keeps one piece");
   std::tie(r.components_removed, r.component_faces_removed) = internal::keep_largest_component(mesh);
+  if (const double extent_mm = pipeline::largest_extent(mesh.points());
+      opt.max_extent_mm > 0 && extent_mm > opt.max_extent_mm)
+    throw pipeline::bad_input("mesh", "it spans " + pipeline::format_number(extent_mm) + " mm, over the " +
+                                          pipeline::format_number(opt.max_extent_mm) + " mm of the largest " +
+                                          scan_kind_name(kind) +
+                                          ": an object of another kind (see --kind), or more than the object? If "
+                                          "the size is right, force the unit with --unit");
 
   // 3. Spikes.
   progress.step("spikes");

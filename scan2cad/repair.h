@@ -70,6 +70,10 @@ struct RepairOptions {
   /// scanner's own meshing may export with the object, are removed first; false keeps them
   bool remove_support = true;
   SymmetricCompletionOptions symmetry;
+  /// [mm], 0 = no check: the largest piece may span at most this (the CLI: 1.6 of the kind's
+  /// size when it detected the unit, pipeline::largest_real_share_of_extent): a head given as a
+  /// respirator went on to align and segment
+  double max_extent_mm = 0;
 };
 
 /// What repair changed, as written to the JSON report.

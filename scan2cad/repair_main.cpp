@@ -12,6 +12,7 @@
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/units.h"
 #include "pipeline/write_mesh.h"
 #include "scan2cad/repair.h"
 
@@ -47,6 +48,8 @@ int main(int argc, char** argv) {
     opt.remove_support = !keep_support;
     const auto kind = kind_unit.kind();
     const pipeline::ScanReadOptions ropt = kind_unit.read_options();
+    if (ropt.unit == pipeline::Unit::automatic)
+      opt.max_extent_mm = pipeline::largest_real_share_of_extent * ropt.expected_size_mm;
     pipeline::require_writable_outputs({out, report_path});
     // 2. Load
     const pipeline::Scan scan = pipeline::read_scan(in, ropt);

@@ -32,20 +32,7 @@ TEST(detect_unit, a_size_that_may_be_cm_or_inches_is_refused_not_guessed) {
   EXPECT_THROW(pipeline::detect_unit(5.0, 130, "r.ply"), pipeline::Error);  // a respirator: 50 mm or 127 mm
   EXPECT_EQ(pipeline::detect_unit(15.1, 250, "h"), Unit::cm);   // 151 mm: a small head's face-only scan
   EXPECT_EQ(pipeline::detect_unit(9.0, 130, "r"), Unit::cm);    // a small respirator, 90 mm
-  EXPECT_EQ(pipeline::detect_unit(21.0, 250, "h"), Unit::cm);   // 210 mm; in inches 533 mm, a bust
-}
-
-// Nor is any head over 400 mm (1.6 of 250) or respirator over 208 mm: NIOSH medium (285.7 mm)
-// given as a respirator went through reconstruct, repair and align.
-TEST(detect_unit, an_object_larger_than_its_kind_is_refused) {
-  EXPECT_EQ(bad_input_message([] { pipeline::detect_unit(285.7, 130, "h.stl"); }, "h.stl"),
-            "largest extent 285.7 is 285.7 mm in mm, over 1.6 times an object of about 130 mm: an object of another "
-            "kind (see --kind), or more than the object? If the size is right, force the unit with --unit mm");
-  EXPECT_NE(bad_input_message([] { pipeline::detect_unit(55.0, 250, "bust.ply"); }).find("550 mm in cm, over 1.6"),
-            std::string::npos);
-  EXPECT_EQ(pipeline::detect_unit(302, 250, "h"), Unit::mm);  // NIOSH large with its neck
-  EXPECT_EQ(pipeline::detect_unit(207, 130, "r"), Unit::mm);
-  EXPECT_THROW(pipeline::detect_unit(209, 130, "r"), pipeline::Error);
+  EXPECT_EQ(pipeline::detect_unit(21.0, 250, "h"), Unit::cm);   // in inches 533 mm, also plausible: cm is nearer
 }
 
 // No adult head is under 150 mm (0.6 of 250): in mm such a size is another kind of object, such as
