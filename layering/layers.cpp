@@ -62,9 +62,9 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
   // 3. Detect and fix: quality of every wedge, then intersections of all element faces.
   const std::size_t shell_pairs = internal::fix_columns(in, opt, c, &progress);
   if (shell_pairs)
-    throw pipeline::algorithm_failed("layers", "shell triangles (of the groups without layers) intersect in " +
-                                                   std::to_string(shell_pairs) +
-                                                   " pairs: a self-intersecting surface (repair it)");
+    throw pipeline::Error(pipeline::ErrorKind::algorithm,
+                          "shell triangles (of the groups without layers) intersect in " + std::to_string(shell_pairs) +
+                              " pairs: a self-intersecting surface (repair it)");
   // 4. Assemble the output model.
   FeModel out;
   out.nodes = surface.nodes;

@@ -230,8 +230,8 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
   for (int l = 0; l < 5; ++l) {
     stats.push_back(part_stats(mesh, l));
     if (stats.back().faces == 0)
-      throw pipeline::algorithm_failed("segment", std::string("part ") + part_name(l) +
-                                                      " is empty: are the landmarks on this head?");
+      throw pipeline::Error(pipeline::ErrorKind::algorithm,
+                            std::string("part ") + part_name(l) + " is empty: are the landmarks on this head?");
   }
   return stats;
 }
@@ -367,7 +367,8 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
   for (auto f : drop) CGAL::Euler::remove_face(mesh.halfedge(f), mesh);
   mesh.collect_garbage();
   if (mesh.number_of_faces() == 0)
-    throw pipeline::algorithm_failed("segment", "no inner face found: is the respirator aligned (concave side toward -z)?");
+    throw pipeline::Error(pipeline::ErrorKind::algorithm,
+                          "no inner face found: is the respirator aligned (concave side toward -z)?");
   if (info) {
     info->thin_shell = thin_shell;
     info->wall_mm = wall_mm;

@@ -575,8 +575,8 @@ std::vector<FitPart> build_part_model(const SurfaceMesh& mesh, const std::string
     if (parametrize) gmsh::model::mesh::createGeometry();
     else internal::number_topology_by_node_tags();  // a rebuilt model would lose the parametrization
   } catch (...) {
-    throw pipeline::algorithm_failed("fit", parametrize ? "gmsh cannot parametrize the parts (each must be a disk)"
-                                                        : "gmsh cannot build the part topology");
+    throw pipeline::Error(pipeline::ErrorKind::algorithm, parametrize ? "gmsh cannot parametrize the parts (each must be a disk)"
+                                                                      : "gmsh cannot build the part topology");
   }
   for (auto& p : parts) {
     gmsh::model::addPhysicalGroup(2, {p.surface_tag}, p.surface_tag);
@@ -609,7 +609,7 @@ std::vector<FitDeviation> fit_deviation(const SurfaceMesh& reference, const Surf
     FitDeviation d;
     d.name = fit_part_name(label, kind);
     if (a.empty() || b.empty())
-      throw pipeline::algorithm_failed("fit", "part " + d.name + " vanished while fitting");
+      throw pipeline::Error(pipeline::ErrorKind::algorithm, "part " + d.name + " vanished while fitting");
     double sum2 = 0;
     auto measure = [&](const Triangles& from, const Tree& to_whole, const Triangles& whole,
                        const std::vector<int>& whole_labels, const Triangles& to_part) {

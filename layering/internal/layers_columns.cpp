@@ -78,7 +78,7 @@ void limit_depth_gradient(const std::vector<std::vector<int>>& nbr, const std::v
       }
     if (!changed) return;
   }
-  throw pipeline::algorithm_failed("layers", "depth taper did not settle in 10000 passes");
+  throw pipeline::Error(pipeline::ErrorKind::algorithm, "depth taper did not settle in 10000 passes");
 }
 
 Columns make_columns(Input& in, const LayerOptions& opt) {

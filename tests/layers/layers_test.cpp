@@ -187,7 +187,7 @@ TEST(build_layers, a_self_intersecting_shell_is_refused) {
   const auto stacks = layering::read_stacks(kMaterials, "head");
   const std::map<std::string, layering::Stack> forehead_only = {{"forehead", stacks.at("forehead")}};
   EXPECT_EQ(error_message(pipeline::ErrorKind::algorithm, [&] { layering::build_layers(surface, forehead_only, {}, nullptr); }),
-            "layers: shell triangles (of the groups without layers) intersect in 1 pairs: a self-intersecting "
+            "shell triangles (of the groups without layers) intersect in 1 pairs: a self-intersecting "
             "surface (repair it)");
   surface.blocks[1].conn = {n, n + 1, n + 2};
   layering::LayerReport report;
