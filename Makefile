@@ -5,7 +5,6 @@
 # Both install the missing Debian packages first (scripts/install-deps.sh).
 
 include scripts/user_variables.mk
-BUILD ?= build
 JOBS ?= 2
 export BUILD
 

@@ -4,3 +4,9 @@
 USER_VARIABLES := case HEADFORM_SCAN RESPIRATOR_SCAN LANDMARKS HEADFORM_UNIT RESPIRATOR_UNIT BUILD JOBS
 $(foreach v,$(.VARIABLES),$(if $(filter command line,$(origin $(v))),$(if $(filter $(v),$(USER_VARIABLES)),,\
   $(error unknown variable $(v)=$($(v)): make takes $(USER_VARIABLES) (see make help)))))
+
+# BUILD only from the command line (or the top Makefile, which passes its own): a shell that had
+# BUILD set for something else built and ran the cases there.
+ifneq ($(origin BUILD),command line)
+BUILD := build
+endif

@@ -241,6 +241,19 @@ TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
       << file_text(build_ / "make.out");
 }
 
+// BUILD set in the shell for something else moved the whole build there; only make's command line
+// sets it now. A dry run, so the source tree's own build folder is only read.
+TEST(cases_makefile, build_from_the_environment_is_ignored) {
+  const fs::path out = scratch_dir() / "env_build.out";
+  const fs::path elsewhere = scratch_dir() / "elsewhere";
+  run_command("BUILD=" + elsewhere.string() + " make -n --no-print-directory -C " SOURCE_DIR
+              " -f Makefile.cases case=medium_onesize > " + out.string() + " 2>&1");
+  const std::string text = file_text(out);
+  EXPECT_NE(text.find("outputs in build/cases/medium_onesize/"), std::string::npos) << text;
+  EXPECT_EQ(text.find(elsewhere.string()), std::string::npos) << text;
+  EXPECT_FALSE(fs::exists(elsewhere));
+}
+
 // A landmarks file alone changes nothing before the landmarks stage: the case's own head chain
 // starts from the shared aligned head (it re-ran reconstruct, repair and align, ~45 s).
 TEST_F(CasesMake, a_landmarks_file_alone_starts_from_the_shared_aligned_head) {
