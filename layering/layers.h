@@ -74,7 +74,7 @@ void require_cheeks_on_their_sides(const FeModel& surface, const std::string& su
 /// opposite directions. surface_mesh writes such a surface; in an edited one a fin triangle, a
 /// loose triangle, a second sheet or one flipped triangle ran 60 thinning passes (up to 14 s) and
 /// ended as "wedges still inverted, distorted or intersecting".
-/// @throws Error(bad_input) naming `surface_path` and an edge (0-based node numbers).
+/// @throws Error(bad_input) naming `surface_path` and an edge by its end points [mm].
 void require_one_oriented_sheet(const FeModel& surface, const std::string& surface_path);
 
 /// Checks that no triangle of `surface` repeats a node, has zero area or repeats another

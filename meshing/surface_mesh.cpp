@@ -79,8 +79,8 @@ std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, c
                             failure + (attempt ? " (and at " + std::to_string(attempt) + " larger sizes)" : std::string()) +
                                 ": try a smaller --size, or a lower --min-gamma");
     gmsh::model::remove();  // this attempt's model; the next one adds its own
-    size_mm *= 0.8;
-    back_size_mm *= 0.8;
+    size_mm *= retry_size_factor;
+    back_size_mm *= retry_size_factor;
   }
 }
 

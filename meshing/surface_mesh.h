@@ -32,6 +32,11 @@ struct SurfaceMeshPart {
   double min_gamma = 0, mean_gamma = 0;  ///< gmsh "gamma" (inscribed/circumscribed radius, 1 = equilateral)
 };
 
+/// How surface_mesh retries when a size gives a triangle below min_gamma: each retry's sizes are
+/// the last ones times retry_size_factor, at most default_max_retries times (a quarter of the size).
+inline constexpr double retry_size_factor = 0.8;
+inline constexpr int default_max_retries = 6;
+
 /// What surface_mesh did when the asked size gave a triangle below min_gamma.
 struct SurfaceMeshRetries {
   double size_mm = 0, back_size_mm = 0;  ///< the sizes the returned mesh was made with
@@ -41,8 +46,8 @@ struct SurfaceMeshRetries {
 /// Builds the surface mesh in the CURRENT gmsh model (gmsh initialized by the caller). Where two
 /// constrained lines run closer than the size (the real Conforming cup's 1 mm rib: gamma 0.16 at
 /// 6.4 mm; the real Flex face seal's rim and a crease 4 mm from it), no triangle between them is
-/// good; the mesh is then made again with both sizes 0.8 times smaller, up to `max_retries` times
-/// (6: down to a quarter of the size; the Conforming cup passes at 4.1 mm, the Flex seal at 2.6).
+/// good; the mesh is then made again with both sizes retry_size_factor (0.8) times theirs, up to
+/// `max_retries` times (the Conforming cup passes at 4.1 mm, the Flex seal at 2.6).
 /// Each attempt takes well under a second on a respirator.
 /// @param[in] fitted       triangle mesh [mm] with int face property "f:part"
 /// @param[in] kind         "head" or "respirator" (one part, respirator_inner)
@@ -54,6 +59,6 @@ struct SurfaceMeshRetries {
 ///         or the minimum gamma is below `min_gamma` after the last retry
 std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, const std::string& kind,
                                           double size_mm, double back_size_mm, double min_gamma = 0.3,
-                                          int max_retries = 6, SurfaceMeshRetries* retries = nullptr);
+                                          int max_retries = default_max_retries, SurfaceMeshRetries* retries = nullptr);
 
 }  // namespace meshing

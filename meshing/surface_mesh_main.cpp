@@ -48,8 +48,12 @@ int main(int argc, char** argv) {
     std::size_t total = 0;
     meshing::SurfaceMeshRetries retries;
     const auto parts = pipeline::naming_file(
-        in, [&] { return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma, 6, &retries); });
-    for (const auto& f : retries.failed) pipeline::log("surface_mesh", f + "; meshed again 0.8 times finer");
+        in, [&] {
+          return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma, meshing::default_max_retries, &retries);
+        });
+    for (const auto& f : retries.failed)
+      pipeline::log("surface_mesh",
+                    f + "; meshed again " + pipeline::format_number(meshing::retry_size_factor) + " times finer");
     if (!retries.failed.empty())
       pipeline::log("surface_mesh", "meshed at size " + pipeline::format_number(retries.size_mm) + " mm" +
                                         (kind == "head" ? ", back " + pipeline::format_number(retries.back_size_mm) + " mm"

@@ -121,10 +121,8 @@ PlyHeader read_ply_header(std::istream& in) {
 // after it ("unreadable or truncated PLY", or "bytes after the elements", naming no line), and a
 // file missing its last face line was read without it. Names the first line that differs from
 // the header, or the element where the file ends. Binary files and headers it cannot parse are
-// left to CGAL's reader.
-void require_ascii_ply_lines_match_header(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  const PlyHeader h = read_ply_header(in);
+// left to CGAL's reader. `in` is `path` read up to the end of its header `h`.
+void require_ascii_ply_lines_match_header(const std::string& path, std::istream& in, const PlyHeader& h) {
   if (!h.complete || !h.ascii) return;
   const auto number = [](const std::string& word, double* v) {
     char* end = nullptr;
@@ -311,7 +309,11 @@ void require_nothing_after_elements(std::istream& in, const std::string& path) {
 
 void read_ply(const std::string& path, Scan& scan) {
   if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
-  require_ascii_ply_lines_match_header(path);
+  {
+    std::ifstream header_and_lines(path, std::ios::binary);
+    const PlyHeader header = read_ply_header(header_and_lines);
+    require_ascii_ply_lines_match_header(path, header_and_lines, header);
+  }
   std::ifstream in(path, std::ios::binary);
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
@@ -484,14 +486,15 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     // crashed (it indexes vertices it has not read yet).
     {
       std::ifstream in(path, std::ios::binary);
+      const PlyHeader header = read_ply_header(in);
       bool vertices_seen = false;
-      for (const PlyElement& e : read_ply_header(in).elements) {
+      for (const PlyElement& e : header.elements) {
         vertices_seen = vertices_seen || e.name == "vertex";
         if (e.name == "face" && !vertices_seen)
           throw bad_input(path, "its faces come before its vertices: a mesh a stage wrote lists vertices first");
       }
+      require_ascii_ply_lines_match_header(path, in, header);
     }
-    require_ascii_ply_lines_match_header(path);
     // Read as a soup first: CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and
     // on a valid one whose faces do not form a 2-manifold, and it crashes on a face index past
     // the vertices (a corrupted binary file); the soup tells the three apart safely.
