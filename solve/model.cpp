@@ -113,6 +113,8 @@ void check_model(const Model& m) {
     if (!(t.tolerance > 0)) throw bad("tie '" + t.name + "': tolerance must be > 0 [mm]");
     if (!names.insert("tie " + t.name).second) throw bad("two ties named '" + t.name + "'");
   }
+  // The same slave group on the same master surface twice doubled the penalty without a word.
+  std::map<std::pair<std::string, std::string>, std::string> pair_names;
   for (const auto& c : m.contacts) {
     check_group(c.slave);
     m.surface(c.master);
@@ -121,10 +123,6 @@ void check_model(const Model& m) {
     // Coulomb coefficients of skin on fabric or silicone are 0.2-1; 1e9 ran with exit 0.
     if (!(c.friction >= 0 && c.friction <= 2)) throw bad("contact '" + c.name + "': friction must be in [0, 2]");
     if (!names.insert("contact " + c.name).second) throw bad("two contacts named '" + c.name + "'");
-  }
-  // The same slave group on the same master surface twice doubled the penalty without a word.
-  std::map<std::pair<std::string, std::string>, std::string> pair_names;
-  for (const auto& c : m.contacts) {
     const auto [it, first] = pair_names.emplace(std::make_pair(c.slave, c.master), c.name);
     if (!first)
       throw bad("contacts '" + it->second + "' and '" + c.name + "' both press '" + c.slave + "' on '" + c.master +
