@@ -10,6 +10,7 @@
 // Sample runs:
 //   layers --in build/cases/medium_onesize/head/surface.msh --materials data/materials.json --out layers.msh
 //   layers --in respirator/surface.msh --materials data/materials.json --kind respirator --out resp.msh
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "layering/layers.h"
@@ -67,14 +68,19 @@ int main(int argc, char** argv) {
     pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
                                  {report_path, [&] { pipeline::write_text_atomic(report_path, j.dump(2) + "\n"); }}});
     // 5. The summary, once both files are written (a failed write prints only its error).
-    std::printf("layers: %s: %zu wedges, %zu shell triangles, %zu nodes, min scaled Jacobian %.3f\n", out.c_str(),
-                rep.wedges, rep.shell_triangles, rep.nodes, rep.min_scaled_jacobian);
-    for (const auto& v : rep.volumes)
-      std::printf("  %-22s %6zu wedges  volume %9.0f mm3  vs mid-area x t %+6.1f %%  vs skin-area x t %+6.1f %%"
-                  "  full-depth part (%3.0f %% of area) vs mid-area x t %+6.1f %%\n",
-                  v.group.c_str(), v.wedges, v.volume, 100 * (v.volume / v.mid_area_volume - 1),
-                  100 * (v.volume / v.skin_area_volume - 1), 100 * v.full_depth_area_fraction,
-                  100 * (v.full_depth_volume / std::max(v.full_depth_mid_area_volume, 1e-300) - 1));
+    char line[320];
+    std::snprintf(line, sizeof line, "%s: %zu wedges, %zu shell triangles, %zu nodes, min scaled Jacobian %.3f",
+                  out.c_str(), rep.wedges, rep.shell_triangles, rep.nodes, rep.min_scaled_jacobian);
+    pipeline::log("layers", line);
+    for (const auto& v : rep.volumes) {
+      std::snprintf(line, sizeof line,
+                    "  %-22s %6zu wedges  volume %9.0f mm3  vs mid-area x t %+6.1f %%  vs skin-area x t %+6.1f %%"
+                    "  full-depth part (%3.0f %% of area) vs mid-area x t %+6.1f %%",
+                    v.group.c_str(), v.wedges, v.volume, 100 * (v.volume / v.mid_area_volume - 1),
+                    100 * (v.volume / v.skin_area_volume - 1), 100 * v.full_depth_area_fraction,
+                    100 * (v.full_depth_volume / std::max(v.full_depth_mid_area_volume, 1e-300) - 1));
+      pipeline::log("layers", line);
+    }
     return 0;
   });
 }

@@ -9,6 +9,7 @@
 //   assemble --head head/layers.msh --respirator respirator/layers.msh --straps straps.msh
 //     --landmarks head/landmarks.json --materials data/materials.json --out model.msh
 //     --deck1 stage1.json --deck2 stage2.json
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "meshing/assemble.h"
@@ -72,10 +73,13 @@ int main(int argc, char** argv) {
     pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
                                  {deck1, [&] { pipeline::write_text_atomic(deck1, d1.dump(2) + "\n"); }},
                                  {deck2, [&] { pipeline::write_text_atomic(deck2, d2.dump(2) + "\n"); }}});
-    std::printf("assemble: %s: %zu nodes, %zu wedges, %zu strap quads; respirator shifted by (%.1f, %.1f, %.1f) mm; "
-                "gap %.3f mm; straps %.2f mm off the skin, attached within %.2f mm of the rim; %zu intersecting face pairs\n",
-                out.c_str(), rep.nodes, rep.wedges, rep.quads, rep.shift.x(), rep.shift.y(), rep.shift.z(), rep.gap_mm,
-                rep.strap_gap_mm, rep.attach_offset_mm, rep.intersecting_pairs);
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "%s: %zu nodes, %zu wedges, %zu strap quads; respirator shifted by (%.1f, %.1f, %.1f) mm; gap %.3f mm; "
+                  "straps %.2f mm off the skin, attached within %.2f mm of the rim; %zu intersecting face pairs",
+                  out.c_str(), rep.nodes, rep.wedges, rep.quads, rep.shift.x(), rep.shift.y(), rep.shift.z(), rep.gap_mm,
+                  rep.strap_gap_mm, rep.attach_offset_mm, rep.intersecting_pairs);
+    pipeline::log("assemble", line);
     return 0;
   });
 }

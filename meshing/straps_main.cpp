@@ -5,6 +5,8 @@
 // Outputs: --out straps.msh (groups strap_top, strap_bottom, strap_*_end_*, strap_*_attach_*)
 // Sample run:
 //   straps --head head/layers.msh --landmarks head/landmarks.json --respirator respirator/layers.msh --out straps.msh
+#include <cstdio>
+
 #include "layering/layers.h"
 #include "meshing/straps.h"
 #include "pipeline/atomic_write.h"
@@ -49,11 +51,14 @@ int main(int argc, char** argv) {
     const auto straps = meshing::make_straps(h, lm, r, opt, &rep);
     // 3. Write.
     layering::write_fe_model(straps, out);
-    std::printf("straps: %s: %zu quads, top %.1f mm (y = %.1f mm at the back; outline %.0f mm: stretched >= %.0f %%), "
-                "bottom %.1f mm (outline %.0f mm: >= %.0f %%), min distance to skin %.2f mm\n",
-                out.c_str(), rep.quads, rep.top_length, rep.top_back_y, rep.top_outline,
-                100 * (rep.top_outline / opt.length_mm - 1), rep.bottom_length, rep.bottom_outline,
-                100 * (rep.bottom_outline / opt.length_mm - 1), rep.min_gap);
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "%s: %zu quads, top %.1f mm (y = %.1f mm at the back; outline %.0f mm: stretched >= %.0f %%), "
+                  "bottom %.1f mm (outline %.0f mm: >= %.0f %%), min distance to skin %.2f mm",
+                  out.c_str(), rep.quads, rep.top_length, rep.top_back_y, rep.top_outline,
+                  100 * (rep.top_outline / opt.length_mm - 1), rep.bottom_length, rep.bottom_outline,
+                  100 * (rep.bottom_outline / opt.length_mm - 1), rep.min_gap);
+    pipeline::log("straps", line);
     return 0;
   });
 }

@@ -246,15 +246,19 @@ TEST(assemble_model, straps_made_for_another_placement_are_refused) {
 }
 
 namespace {
-// Runs a stage with stderr captured; returns the exit status and the stderr lines other than the
-// option echo (every stage logs its resolved options first).
-int run_stage(const std::string& args, std::vector<std::string>* err_lines) {
-  const std::string err = (scratch_dir() / "err.txt").string();
-  const int rc = run_command(std::string(BIN_DIR) + "/" + args + " 2>" + err);
+// Runs a stage with stderr and stdout captured; returns the exit status, the stderr lines other
+// than the option echo (every stage logs its resolved options first) and, if asked, stdout.
+int run_stage(const std::string& args, std::vector<std::string>* err_lines, std::string* out_text = nullptr) {
+  const std::string err = (scratch_dir() / "err.txt").string(), out = (scratch_dir() / "out.txt").string();
+  const int rc = run_command(std::string(BIN_DIR) + "/" + args + " >" + out + " 2>" + err);
   const std::string options_line = args.substr(0, args.find(' ')) + ": options:";
   std::ifstream in(err);
   for (std::string l; std::getline(in, l);)
     if (l.rfind(options_line, 0) != 0) err_lines->push_back(l);
+  if (out_text) {
+    std::ifstream o(out);
+    out_text->assign(std::istreambuf_iterator<char>(o), {});
+  }
   return rc;
 }
 }  // namespace
@@ -287,8 +291,14 @@ TEST(straps_cli, a_strap_stretched_past_the_limit_gives_one_error_line_exit_2_no
   EXPECT_NE(err[0].find("more than 100 % (--max-stretch-percent): is the length in mm?"), std::string::npos) << err[0];
   EXPECT_FALSE(std::filesystem::exists(out));
   err.clear();
-  EXPECT_EQ(run_stage(args + " --max-stretch-percent 1000", &err), 0);
+  // Its summary goes to stderr with every stage's log (straps, layers and assemble printed theirs
+  // on stdout, the other stages on stderr); stdout stays empty.
+  std::string stdout_text;
+  EXPECT_EQ(run_stage(args + " --max-stretch-percent 1000", &err, &stdout_text), 0);
   EXPECT_TRUE(std::filesystem::exists(out));
+  EXPECT_EQ(stdout_text, "");
+  ASSERT_FALSE(err.empty());
+  EXPECT_EQ(err.back().rfind("straps: " + out + ": ", 0), 0u) << err.back();
 }
 
 TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outputs) {
