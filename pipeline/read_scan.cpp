@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <new>
 #include <sstream>
 #include <stdexcept>
@@ -72,7 +73,7 @@ std::string first_bytes(const std::string& path, std::size_t n) {
 // A PLY header as far as the checks below need it: each element's name, count and properties in
 // order. CGAL's reader parses the header itself but does not expose it.
 struct PlyProperty {
-  std::string name, index_type;  // index_type: a list's item type ("" for a scalar)
+  std::string name, type, index_type;  // type: a scalar's, or a list's count type; index_type: a list's item type
   bool is_list = false;
 };
 struct PlyElement {
@@ -82,7 +83,7 @@ struct PlyElement {
 };
 struct PlyHeader {
   bool complete = false;  // end_header found and every element count parsed
-  bool ascii = false;
+  bool ascii = false, big_endian = false;
   std::size_t lines = 0;  // lines up to end_header
   std::vector<PlyElement> elements;
 };
@@ -94,7 +95,7 @@ PlyHeader read_ply_header(std::istream& in) {
     std::istringstream words(line);
     std::string key, a;
     words >> key >> a;
-    if (key == "format") h.ascii = a == "ascii";
+    if (key == "format") h.ascii = a == "ascii", h.big_endian = a == "binary_big_endian";
     if (key == "element") {
       PlyElement e{a, 0, {}};
       if (!(words >> e.count) || !(e.count >= 0)) return h;
@@ -103,8 +104,8 @@ PlyHeader read_ply_header(std::istream& in) {
     if (key == "property" && !h.elements.empty()) {
       PlyProperty p;
       p.is_list = a == "list";
-      std::string count_type;
-      if (p.is_list) words >> count_type >> p.index_type;
+      p.type = a;
+      if (p.is_list) words >> p.type >> p.index_type;
       words >> p.name;
       h.elements.back().properties.push_back(p);
     }
@@ -198,20 +199,106 @@ std::string why_text_unreadable(const std::string& path, const std::string& what
   return "unreadable or truncated " + what;
 }
 
-// Why CGAL refused a PLY: face indices of 8 or 16 bits (valid PLY, written by some tools to save
-// space), which its reader does not take, were reported as "unreadable or truncated"; otherwise
-// why_text_unreadable's reasons.
-std::string why_ply_unreadable(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  for (const PlyElement& e : read_ply_header(in).elements)
-    for (const PlyProperty& p : e.properties)
-      if (p.is_list && p.name.rfind("vertex_ind", 0) == 0)
-        for (const char* small : {"char", "uchar", "int8", "uint8", "short", "ushort", "int16", "uint16"})
-          if (p.index_type == small)
-            return "its face indices are of type " + p.index_type +
-                   ", which CGAL's PLY reader does not take (int or uint, 32 bits): convert the file (e.g. in MeshLab)";
-  return why_text_unreadable(path, "PLY", "end_header");
+// Is `p` a face's vertex index list of 8 or 16 bits (valid PLY, written by some tools to save
+// space), which CGAL's PLY reader does not take (int or uint, 32 bits)?
+bool is_small_face_index_list(const PlyProperty& p) {
+  if (!p.is_list || p.name.rfind("vertex_ind", 0) != 0) return false;
+  for (const char* small : {"char", "uchar", "int8", "uint8", "short", "ushort", "int16", "uint16"})
+    if (p.index_type == small) return true;
+  return false;
 }
+
+// Bytes of a PLY scalar type; 0 for a name PLY does not define.
+std::size_t ply_type_size(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+// The PLY at `path` (header `h`) with its 8- or 16-bit face indices made 32-bit ("int"), for
+// CGAL's reader, which then checks it as any PLY (indices past the vertices, truncation, bytes
+// after the elements). assimp reads these files but checks neither: a cut binary file gave
+// 161,168 faces on one vertex, and an index past the vertices a face on a vertex of its own.
+// Written here because no library at hand converts PLY property types. ASCII bodies are kept
+// as they are (only the header's type word changes); binary ones are re-encoded element by
+// element in the file's byte order.
+std::string with_32_bit_face_indices(const std::string& path, const PlyHeader& h) {
+  std::ifstream in(path, std::ios::binary);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string key, list, count_type, index_type, name;
+    words >> key >> list >> count_type >> index_type >> name;
+    if (key == "property" && list == "list" && is_small_face_index_list({name, count_type, index_type, true}))
+      line = "property list " + count_type + " int " + name;
+    out += line + "\n";
+    if (key == "end_header") break;
+  }
+  const std::string body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (h.ascii) return out + body;
+  std::size_t at = 0;
+  // The next `n` bytes of the body, as an unsigned number in the file's byte order.
+  const auto take = [&](std::size_t n, const PlyElement& e, double i) {
+    if (at + n > body.size())
+      throw bad_input(path, "truncated: its header declares " + format_number(e.count) + " of element " + e.name +
+                                ", the file ends in number " + format_number(i + 1) + " (binary)");
+    std::uint64_t v = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      v |= std::uint64_t(static_cast<unsigned char>(body[at + (h.big_endian ? n - 1 - k : k)])) << (8 * k);
+    at += n;
+    return v;
+  };
+  const auto put = [&](std::uint64_t v, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) out.push_back(char(v >> (8 * (h.big_endian ? n - 1 - k : k))));
+  };
+  for (const PlyElement& e : h.elements)
+    for (double i = 0; i < e.count; ++i)
+      for (const PlyProperty& p : e.properties) {
+        const std::size_t size = ply_type_size(p.type), item = p.is_list ? ply_type_size(p.index_type) : 0;
+        if (size == 0 || (p.is_list && item == 0))
+          throw bad_input(path, "property " + p.name + " of element " + e.name + " has a type PLY does not define");
+        const std::uint64_t v = take(size, e, i);
+        put(v, size);
+        if (!p.is_list) continue;
+        const bool widen = is_small_face_index_list(p), is_signed = p.index_type[0] != 'u';
+        for (std::uint64_t k = 0; k < v; ++k) {
+          std::uint64_t index = take(item, e, i);
+          if (!widen) {
+            put(index, item);
+            continue;
+          }
+          if (is_signed && (index >> (8 * item - 1)))  // a negative index stays negative: CGAL names it
+            index |= ~std::uint64_t(0) << (8 * item);
+          put(index & 0xffffffffu, 4);
+        }
+      }
+  return out + body.substr(at);
+}
+
+// Why CGAL refused a PLY: why_text_unreadable's reasons.
+std::string why_ply_unreadable(const std::string& path) { return why_text_unreadable(path, "PLY", "end_header"); }
+
+// A PLY as CGAL's reader takes it: the file itself, or, when its face indices are of 8 or 16
+// bits, the file with them made 32-bit (with_32_bit_face_indices). Each open() reads it anew.
+class PlyForCgal {
+ public:
+  PlyForCgal(const std::string& path, const PlyHeader& h) : path_(path) {
+    if (!h.complete) return;  // left to CGAL's reader, which names the file unreadable
+    for (const PlyElement& e : h.elements)
+      for (const PlyProperty& p : e.properties)
+        if (is_small_face_index_list(p)) widened_ = with_32_bit_face_indices(path, h);
+  }
+  std::unique_ptr<std::istream> open() const {
+    if (widened_.empty()) return std::make_unique<std::ifstream>(path_, std::ios::binary);
+    return std::make_unique<std::istringstream>(widened_, std::ios::binary);
+  }
+
+ private:
+  std::string path_, widened_;
+};
 
 // Why assimp refused an STL, where the bytes can tell: assimp says "Failed to determine STL
 // storage representation" both for a cut-off binary STL and for a file that is no STL at all. A
@@ -309,17 +396,16 @@ void require_nothing_after_elements(std::istream& in, const std::string& path) {
 
 void read_ply(const std::string& path, Scan& scan) {
   if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
-  {
-    std::ifstream header_and_lines(path, std::ios::binary);
-    const PlyHeader header = read_ply_header(header_and_lines);
-    require_ascii_ply_lines_match_header(path, header_and_lines, header);
-  }
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream header_and_lines(path, std::ios::binary);
+  const PlyHeader header = read_ply_header(header_and_lines);
+  require_ascii_ply_lines_match_header(path, header_and_lines, header);
+  const PlyForCgal ply(path, header);
+  const auto in = ply.open();
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
-  if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, pts, polys); }))
+  if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(*in, pts, polys); }))
     throw bad_input(path, why_ply_unreadable(path));
-  require_nothing_after_elements(in, path);
+  require_nothing_after_elements(*in, path);
   if (!polys.empty()) {
     scan.is_mesh = true;
     scan.soup.points = std::move(pts);
@@ -329,9 +415,9 @@ void read_ply(const std::string& path, Scan& scan) {
   // A point set: read again with normals (absent normals come back as zero vectors).
   using PN = std::pair<Point, Vector>;
   std::vector<PN> pn;
-  std::ifstream in2(path, std::ios::binary);
+  const auto in2 = ply.open();
   if (!read_ply_guarded(path, [&] {
-        return CGAL::IO::read_PLY(in2, std::back_inserter(pn),
+        return CGAL::IO::read_PLY(*in2, std::back_inserter(pn),
                                   CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
                                       .normal_map(CGAL::Second_of_pair_property_map<PN>()));
       }))
@@ -484,35 +570,36 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
     // A valid PLY may list its faces before its vertices; CGAL's Surface_mesh reader then
     // crashed (it indexes vertices it has not read yet).
-    {
-      std::ifstream in(path, std::ios::binary);
-      const PlyHeader header = read_ply_header(in);
-      bool vertices_seen = false;
-      for (const PlyElement& e : header.elements) {
-        vertices_seen = vertices_seen || e.name == "vertex";
-        if (e.name == "face" && !vertices_seen)
-          throw bad_input(path, "its faces come before its vertices: a mesh a stage wrote lists vertices first");
-      }
-      require_ascii_ply_lines_match_header(path, in, header);
+    std::ifstream header_and_lines(path, std::ios::binary);
+    const PlyHeader header = read_ply_header(header_and_lines);
+    bool vertices_seen = false;
+    for (const PlyElement& e : header.elements) {
+      vertices_seen = vertices_seen || e.name == "vertex";
+      if (e.name == "face" && !vertices_seen)
+        throw bad_input(path, "its faces come before its vertices: a mesh a stage wrote lists vertices first");
     }
+    require_ascii_ply_lines_match_header(path, header_and_lines, header);
+    const PlyForCgal ply(path, header);
     // Read as a soup first: CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and
     // on a valid one whose faces do not form a 2-manifold, and it crashes on a face index past
-    // the vertices (a corrupted binary file); the soup tells the three apart safely.
+    // the vertices (a corrupted binary file); the soup tells the three apart safely. The mesh is
+    // then read by CGAL's mesh reader, not built from the soup: it keeps the face properties
+    // (segment's part labels) that the later stages read.
     {
-      std::ifstream in(path, std::ios::binary);
+      const auto in = ply.open();
       std::vector<Point> points;
       std::vector<std::vector<std::size_t>> polygons;
-      if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, points, polygons); }))
+      if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(*in, points, polygons); }))
         throw bad_input(path, why_ply_unreadable(path));
-      require_nothing_after_elements(in, path);
+      require_nothing_after_elements(*in, path);
       check_face_indices(polygons, points.size(), path);
       if (!polygons.empty() && !PMP::is_polygon_soup_a_polygon_mesh(polygons))
         throw bad_input(path, "not a 2-manifold polygon mesh (" + std::to_string(polygons.size()) +
                                   " faces read; run repair first)");
     }
-    std::ifstream in(path, std::ios::binary);
+    const auto in = ply.open();
     std::string comments;
-    if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(in, mesh, comments); }))
+    if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(*in, mesh, comments); }))
       throw bad_input(path, "unreadable or truncated PLY");
   } else {
     Scan scan = read_scan(path, ScanReadOptions{Unit::mm});

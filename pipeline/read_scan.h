@@ -1,7 +1,8 @@
 #pragma once
 /// Reading scans and meshes. Scanner formats: PLY (ascii/binary), STL (ascii/binary), OBJ, OFF
 /// (meshes or point sets) and XYZ/PTS (points, optionally with normals). PLY, OFF and XYZ are
-/// read with CGAL; STL and OBJ with assimp.
+/// read with CGAL; STL and OBJ with assimp. PLY face indices of 8 or 16 bits, which CGAL's reader
+/// does not take, are widened to 32 bits in memory first.
 #include <string>
 
 #include "pipeline/surface_mesh.h"
