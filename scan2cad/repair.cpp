@@ -114,11 +114,14 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   // 2. Small components. A large second piece is no scanner debris: a 4 mm gap across the NIOSH
   //    head cut off its face (36 % of the faces), and repair kept the back of the head and closed
   //    it with exit 0; of two heads one was kept.
-  if (const auto [second_share, pieces] = internal::second_component_area_share(mesh); second_share > max_second_component_share)
-    throw pipeline::bad_input("mesh", "the surface is in " + std::to_string(pieces) + " pieces, and the second largest holds " +
-                                          std::to_string(int(std::lround(100 * second_share))) +
+  const internal::ComponentsKept kept = internal::keep_largest_component(mesh);
+  if (kept.second_area_share > max_second_component_share)
+    throw pipeline::bad_input("mesh", "the surface is in " + std::to_string(kept.components) +
+                                          " pieces, and the second largest holds " +
+                                          std::to_string(int(std::lround(100 * kept.second_area_share))) +
                                           " % of the area: a scan cut in two, or two objects? repair keeps one piece");
-  std::tie(r.components_removed, r.component_faces_removed) = internal::keep_largest_component(mesh);
+  r.components_removed = kept.components > 0 ? kept.components - 1 : 0;
+  r.component_faces_removed = kept.faces_removed;
   if (const double extent_mm = pipeline::largest_extent(mesh.points());
       opt.max_extent_mm > 0 && extent_mm > opt.max_extent_mm)
     throw pipeline::bad_input("mesh", "it spans " + pipeline::format_number(extent_mm) + " mm, over the " +

@@ -106,26 +106,29 @@ std::size_t remove_self_intersecting_faces(SurfaceMesh& mesh) {
   return cut.size();
 }
 
-std::pair<double, std::size_t> second_component_area_share(const SurfaceMesh& mesh) {
-  std::vector<std::size_t> component(mesh.num_faces());  // by face index (the mesh is const)
-  const std::size_t n = PMP::connected_components(mesh, CGAL::make_property_map(component));
-  std::vector<double> area_mm2(n, 0.0);
+ComponentsKept keep_largest_component(SurfaceMesh& mesh) {
+  ComponentsKept kept;
+  auto component = mesh.add_property_map<pipeline::FaceIndex, std::size_t>("f:repair_component", 0).first;
+  kept.components = PMP::connected_components(mesh, component);
+  std::vector<double> area_mm2(kept.components, 0.0);
   double total_mm2 = 0;
   for (auto f : mesh.faces()) {
     const double a = PMP::face_area(f, mesh);
     area_mm2[component[f]] += a;
     total_mm2 += a;
   }
-  if (n < 2 || !(total_mm2 > 0)) return {0.0, n};
-  std::partial_sort(area_mm2.begin(), area_mm2.begin() + 2, area_mm2.end(), std::greater<>());
-  return {area_mm2[1] / total_mm2, n};
-}
-
-std::pair<std::size_t, std::size_t> keep_largest_component(SurfaceMesh& mesh) {
-  const std::size_t f0 = mesh.number_of_faces();
-  const std::size_t removed = PMP::keep_largest_connected_components(mesh, 1);
+  if (kept.components > 1) {
+    const std::size_t largest = std::size_t(std::max_element(area_mm2.begin(), area_mm2.end()) - area_mm2.begin());
+    std::vector<double> sorted = area_mm2;
+    std::partial_sort(sorted.begin(), sorted.begin() + 2, sorted.end(), std::greater<>());
+    kept.second_area_share = total_mm2 > 0 ? sorted[1] / total_mm2 : 0.0;
+    const std::size_t f0 = mesh.number_of_faces();
+    PMP::keep_connected_components(mesh, std::vector<std::size_t>{largest}, component);
+    kept.faces_removed = f0 - mesh.number_of_faces();
+  }
+  mesh.remove_property_map(component);
   mesh.collect_garbage();
-  return {removed, f0 - mesh.number_of_faces()};
+  return kept;
 }
 
 }  // namespace scan2cad::internal

@@ -26,11 +26,16 @@ std::size_t count_self_intersecting_faces(const pipeline::SurfaceMesh& mesh);
 /// keeps the largest component. @return the number of faces deleted.
 std::size_t remove_self_intersecting_faces(pipeline::SurfaceMesh& mesh);
 
-/// The area of the second largest connected component (by area) as a share of the whole
-/// surface's, and the number of components. @return {share in [0, 0.5], components}.
-std::pair<double, std::size_t> second_component_area_share(const pipeline::SurfaceMesh& mesh);
+/// What keep_largest_component found and removed.
+struct ComponentsKept {
+  std::size_t components = 0;     ///< connected components found (0 for an empty mesh)
+  std::size_t faces_removed = 0;  ///< faces of the components removed
+  double second_area_share = 0;   ///< the second largest component's area / the whole area, in [0, 0.5]
+};
 
-/// Keeps the largest connected component. @return {components removed, faces removed}.
-std::pair<std::size_t, std::size_t> keep_largest_component(pipeline::SurfaceMesh& mesh);
+/// Keeps the connected component of largest area, and measures the second largest's share of the
+/// whole area (which tells a scan cut in two, or two objects, from debris). Area, not the face
+/// count, says which piece is the object: debris may be finely triangulated.
+ComponentsKept keep_largest_component(pipeline::SurfaceMesh& mesh);
 
 }  // namespace scan2cad::internal

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pipeline/error.h"
+#include "pipeline/units.h"
 #include "scan2cad/internal/cleanup.h"
 #include "scan2cad/repair.h"
 #include "scan2cad/surface_distance.h"
@@ -83,9 +84,9 @@ TEST(repair, smoothing_that_shrinks_the_surface_is_refused) {
 // (a 4 mm gap across the NIOSH face made repair keep the back of the head, exit 0), are refused;
 // a piece of under a tenth of the area is removed as debris.
 TEST(repair, a_surface_in_two_large_pieces_is_refused) {
-  const auto two_spheres = [](double r2) {
+  const auto two_spheres = [](double r2, int rings2 = 40) {
     auto s = test_meshes::sphere_soup(50, 40);
-    const auto t = test_meshes::sphere_soup(r2, 40);
+    const auto t = test_meshes::sphere_soup(r2, rings2);
     const std::size_t n = s.points.size();
     for (const auto& p : t.points) s.points.emplace_back(p.x() + 300, p.y(), p.z());
     for (auto poly : t.polygons) {
@@ -105,6 +106,13 @@ TEST(repair, a_surface_in_two_large_pieces_is_refused) {
   scan2cad::RepairReport rep;  // a sphere of radius 15: 8 % of the area
   EXPECT_NO_THROW(scan2cad::repair(two_spheres(15), scan2cad::ScanKind::head, opt, &rep));
   EXPECT_EQ(rep.components_removed, 1u);
+  // The piece kept is the largest by area, which the share above measures: debris triangulated
+  // finer than the object (57,120 faces against 6,240) was kept by its face count, the object
+  // removed.
+  const auto object = scan2cad::repair(two_spheres(15, 120), scan2cad::ScanKind::head, opt, &rep);
+  EXPECT_EQ(rep.components_removed, 1u);
+  EXPECT_EQ(rep.component_faces_removed, 4u * 120 * 119);  // sphere_soup: 4 rings (rings - 1) faces
+  EXPECT_NEAR(pipeline::largest_extent(object.points()), 100, 1);
   // a band of faces around the equator removed: two half spheres
   auto cut = test_meshes::sphere_soup(50, 40);
   std::vector<std::vector<std::size_t>> kept;
