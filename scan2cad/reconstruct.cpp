@@ -603,11 +603,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     const SupportPlane support = remove_support_plane(pn);
     st.support_points_removed = support.points_removed;
     if (support.found)
-      pipeline::log("reconstruct", "  removed " + std::to_string(support.points_removed) +
-                                       " points of a plane the object stood on (a table or turntable, " +
-                                       pipeline::format_number(support.width_mm) + " mm across, " +
-                                       std::to_string(int(std::lround(100 * support.beyond_share))) +
-                                       " % of it beyond the object; --keep-support keeps it)");
+      pipeline::log("reconstruct", support.removal_line(support.points_removed, "points"));
   }
   if (pn.size() < min_points)
     throw pipeline::bad_input("point cloud", "only " + std::to_string(pn.size()) +

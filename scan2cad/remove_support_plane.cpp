@@ -118,6 +118,12 @@ double distance_outside_convex_polygon(const Point2& q, const std::vector<Point2
   return inside ? 0.0 : std::sqrt(nearest_sq);
 }
 
+std::string SupportPlane::removal_line(std::size_t count, const std::string& what) const {
+  return "  removed " + std::to_string(count) + " " + what + " of a plane the object stood on (a table or turntable, " +
+         pipeline::format_number(width_mm) + " mm across, " + std::to_string(int(std::lround(100 * beyond_share))) +
+         " % of it beyond the object; --keep-support keeps it)";
+}
+
 bool SupportPlane::holds(const Point& p) const {
   if (!found) return false;
   const double d = signed_distance_mm(plane, p);

@@ -21,6 +21,7 @@
 /// the object keeps its points above the contact band: a generated cup standing on its rim lost
 /// up to 3.7 mm of the rim when the removal band applied everywhere.
 #include <cstddef>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -65,6 +66,8 @@ struct SupportPlane {
   /// p belongs to the support: beyond the plane, within the contact band, or within the removal
   /// band and more than footprint_margin_mm outside the footprint
   bool holds(const pipeline::Point& p) const;
+  /// The log line of its removal: "removed <count> <what> of a plane the object stood on (...)".
+  std::string removal_line(std::size_t count, const std::string& what) const;
 };
 
 /// Distance of q outside the convex polygon `hull` (counterclockwise) [mm], 0 inside it.

@@ -76,9 +76,7 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
         if (std::none_of(polygon.begin(), polygon.end(), [&](std::size_t v) { return support.holds(soup.points[v]); }))
           without_support.polygons.push_back(polygon);
       r.support_faces_removed = soup.polygons.size() - without_support.polygons.size();
-      pipeline::log("repair", "  removed " + std::to_string(r.support_faces_removed) +
-                                  " faces of a plane the object stood on (a table or turntable, " +
-                                  pipeline::format_number(support.width_mm) + " mm across; --keep-support keeps it)");
+      pipeline::log("repair", support.removal_line(r.support_faces_removed, "faces"));
     }
   }
   const pipeline::PolygonSoup& input = r.support_faces_removed > 0 ? without_support : soup;
