@@ -20,6 +20,7 @@
 #include <set>
 
 #include "pipeline/error.h"
+#include "pipeline/require_cheeks_on_their_sides.h"
 #include "scan2cad/internal/number_topology.h"
 
 namespace scan2cad {
@@ -165,22 +166,13 @@ void check_parts(const SurfaceMesh& mesh, const std::string& kind) {
       throw pipeline::bad_input("parts", "part " + fit_part_name(label, kind) + " is in " + std::to_string(pieces.size()) +
                                              " separate pieces, but segment makes each part one connected piece "
                                              "(labels scrambled or edited by hand?)");
-  // Each cheek on its side of the aligned head (+x is the subject's left): labels swapped by hand
-  // were fitted, layered and assembled with the left cheek on the right, exit 0.
   if (kind == "head") {
     double x_sum[5] = {0, 0, 0, 0, 0}, n[5] = {0, 0, 0, 0, 0};
     for (auto f : mesh.faces()) {
       const std::size_t l = std::size_t(found.first[f]);
       for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) x_sum[l] += mesh.point(v).x(), n[l] += 1;
     }
-    for (const int l : {2, 3}) {
-      const double x_mm = x_sum[l] / n[l];
-      if (l == 2 ? !(x_mm > 0) : !(x_mm < 0))
-        throw pipeline::bad_input("parts", std::string("part ") + head_names[l] + " lies at mean x = " +
-                                               pipeline::format_number(x_mm) + " mm, on the subject's " +
-                                               (l == 2 ? "right" : "left") +
-                                               " (+x is the left in align's frame): cheek labels swapped?");
-    }
+    pipeline::require_cheeks_on_their_sides("parts", "part", x_sum[2] / n[2], x_sum[3] / n[3]);
   }
 }
 

@@ -16,6 +16,7 @@
 #include "pipeline/gmsh_session.h"
 #include "pipeline/read_json.h"
 #include "pipeline/read_msh.h"
+#include "pipeline/require_cheeks_on_their_sides.h"
 #include "pipeline/write_gmsh_model.h"
 
 namespace layering {
@@ -165,17 +166,14 @@ std::map<std::string, Stack> read_stacks(const std::string& materials_json, cons
 }
 
 void require_cheeks_on_their_sides(const FeModel& surface, const std::string& surface_path) {
-  for (const auto& [name, sign] : {std::pair<const char*, double>{"left_cheek", 1.0}, {"right_cheek", -1.0}}) {
+  const auto mean_x_mm = [&](const char* name) {
     const Block* b = surface.find(name);
-    if (!b || b->conn.empty()) continue;
+    if (!b || b->conn.empty()) return std::nan("");
     double x_mm = 0;
     for (int node : b->conn) x_mm += surface.nodes[std::size_t(node)].x() / double(b->conn.size());
-    if (!(sign * x_mm > 0))
-      throw pipeline::bad_input(surface_path, std::string("group ") + name + " lies at mean x = " +
-                                                  pipeline::format_number(x_mm) + " mm, on the subject's " +
-                                                  (sign > 0 ? "right" : "left") +
-                                                  " (+x is the left in align's frame): cheek names swapped?");
-  }
+    return x_mm;
+  };
+  pipeline::require_cheeks_on_their_sides(surface_path, "group", mean_x_mm("left_cheek"), mean_x_mm("right_cheek"));
 }
 
 void require_one_oriented_sheet(const FeModel& surface, const std::string& surface_path) {

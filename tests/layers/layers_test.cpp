@@ -431,7 +431,7 @@ TEST(require_cheeks_on_their_sides, names_a_cheek_on_the_wrong_side) {
   EXPECT_EQ(message(), "no error");
   std::swap(m.blocks[0].name, m.blocks[1].name);
   EXPECT_EQ(message(), "group left_cheek lies at mean x = -53.3333 mm, on the subject's right (+x is the left in align's "
-                       "frame): cheek names swapped?");
+                       "frame): cheek labels swapped?");
 }
 
 // An edited surface that is not one oriented sheet (a flipped triangle, a fin, a loose triangle)
