@@ -394,18 +394,29 @@ void require_nothing_after_elements(std::istream& in, const std::string& path) {
                           "a count in the header is too small, or data was appended (damaged or hand-edited file?)");
 }
 
-void read_ply(const std::string& path, Scan& scan) {
+// The header of the PLY at `path`, once its magic and (ASCII) its lines are checked.
+PlyHeader read_checked_ply_header(const std::string& path) {
   if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
-  std::ifstream header_and_lines(path, std::ios::binary);
-  const PlyHeader header = read_ply_header(header_and_lines);
-  require_ascii_ply_lines_match_header(path, header_and_lines, header);
-  const PlyForCgal ply(path, header);
+  std::ifstream in(path, std::ios::binary);
+  const PlyHeader header = read_ply_header(in);
+  require_ascii_ply_lines_match_header(path, in, header);
+  return header;
+}
+
+// `ply` (the file at `path`) read by CGAL as a polygon soup, with nothing after its elements.
+void read_ply_soup(const std::string& path, const PlyForCgal& ply, std::vector<Point>& points,
+                   std::vector<std::vector<std::size_t>>& polygons) {
   const auto in = ply.open();
-  std::vector<Point> pts;
-  std::vector<std::vector<std::size_t>> polys;
-  if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(*in, pts, polys); }))
+  if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(*in, points, polygons); }))
     throw bad_input(path, why_ply_unreadable(path));
   require_nothing_after_elements(*in, path);
+}
+
+void read_ply(const std::string& path, Scan& scan) {
+  const PlyForCgal ply(path, read_checked_ply_header(path));
+  std::vector<Point> pts;
+  std::vector<std::vector<std::size_t>> polys;
+  read_ply_soup(path, ply, pts, polys);
   if (!polys.empty()) {
     scan.is_mesh = true;
     scan.soup.points = std::move(pts);
@@ -567,18 +578,15 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
   SurfaceMesh mesh;
   const std::string ext = lower_extension(path);
   if (ext == ".ply") {
-    if (first_bytes(path, 3) != "ply") throw bad_input(path, "not a PLY file (no 'ply' magic)");
+    const PlyHeader header = read_checked_ply_header(path);
     // A valid PLY may list its faces before its vertices; CGAL's Surface_mesh reader then
     // crashed (it indexes vertices it has not read yet).
-    std::ifstream header_and_lines(path, std::ios::binary);
-    const PlyHeader header = read_ply_header(header_and_lines);
     bool vertices_seen = false;
     for (const PlyElement& e : header.elements) {
       vertices_seen = vertices_seen || e.name == "vertex";
       if (e.name == "face" && !vertices_seen)
         throw bad_input(path, "its faces come before its vertices: a mesh a stage wrote lists vertices first");
     }
-    require_ascii_ply_lines_match_header(path, header_and_lines, header);
     const PlyForCgal ply(path, header);
     // Read as a soup first: CGAL's PLY-to-Surface_mesh reader fails alike on a broken file and
     // on a valid one whose faces do not form a 2-manifold, and it crashes on a face index past
@@ -586,12 +594,9 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     // then read by CGAL's mesh reader, not built from the soup: it keeps the face properties
     // (segment's part labels) that the later stages read.
     {
-      const auto in = ply.open();
       std::vector<Point> points;
       std::vector<std::vector<std::size_t>> polygons;
-      if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(*in, points, polygons); }))
-        throw bad_input(path, why_ply_unreadable(path));
-      require_nothing_after_elements(*in, path);
+      read_ply_soup(path, ply, points, polygons);
       check_face_indices(polygons, points.size(), path);
       if (!polygons.empty() && !PMP::is_polygon_soup_a_polygon_mesh(polygons))
         throw bad_input(path, "not a 2-manifold polygon mesh (" + std::to_string(polygons.size()) +
