@@ -97,8 +97,9 @@ int dof_of(const Deck& d, const std::string& s, const std::string& where) {
   throw d.bad(where + ".dof: expected \"x\", \"y\" or \"z\", got \"" + s + "\"");
 }
 Curve curve_of(const Deck& d, const json& o, const std::string& where) {
-  if (!o.contains("curve") || !o["curve"].is_array() || o["curve"].empty())
+  if (!o.contains("curve") || !o["curve"].is_array())
     throw d.bad(where + ": missing 'curve' ([[t, value], ...])");
+  if (o["curve"].empty()) throw d.bad(where + ".curve: empty, expected at least one point [t, value]");
   Curve c;
   for (const auto& p : o["curve"]) {
     if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
@@ -179,8 +180,48 @@ void apply_deck(Model& m, const std::string& text, const std::string& deck_name)
   }
 }
 
+namespace {
+
+// The deck's "model_check" (written by assemble: the node count and bounding box of the model it
+// was made for) against the model read. A case's deck with another case's model ran for 10
+// minutes, its strap ends driven to the other model's attachment points, and stage II's ties
+// then failed naming a node, not the cause.
+void check_deck_model(const Deck& d, const json& o, const Model& m, const std::string& model_name) {
+  require_known_keys(d, o, "model_check", {"nodes", "bounds_mm"});
+  const double nodes = num(d, o, "nodes", "model_check", 0, true);
+  if (!o.contains("bounds_mm") || !o["bounds_mm"].is_array() || o["bounds_mm"].size() != 2)
+    throw d.bad("model_check.bounds_mm: expected [[x, y, z], [x, y, z]] (lowest, highest) [mm]");
+  const std::array<double, 6> made_for = {
+      o["bounds_mm"][0].at(0).get<double>(), o["bounds_mm"][0].at(1).get<double>(), o["bounds_mm"][0].at(2).get<double>(),
+      o["bounds_mm"][1].at(0).get<double>(), o["bounds_mm"][1].at(1).get<double>(), o["bounds_mm"][1].at(2).get<double>()};
+  const std::array<double, 6> here = model_bounds_mm(m);
+  constexpr double tolerance_mm = 1e-3;  // assemble writes the coordinates to 16 digits
+  bool same = double(m.n_nodes()) == nodes;
+  for (int k = 0; k < 6; ++k) same = same && std::fabs(made_for[std::size_t(k)] - here[std::size_t(k)]) <= tolerance_mm;
+  if (same) return;
+  const auto box = [](const std::array<double, 6>& b) {
+    return pipeline::format_position_mm(b[0], b[1], b[2]) + " to " + pipeline::format_position_mm(b[3], b[4], b[5]);
+  };
+  throw d.bad("made for a model of " + pipeline::format_number(nodes) + " nodes from " + box(made_for) + ", and " +
+              model_name + " has " + std::to_string(m.n_nodes()) + " nodes from " + box(here) +
+              ": the deck of another case, or of an earlier assemble? (assemble writes the model and its decks together)");
+}
+
+}  // namespace
+
+std::array<double, 6> model_bounds_mm(const Model& m) {
+  std::array<double, 6> b = {1e300, 1e300, 1e300, -1e300, -1e300, -1e300};
+  for (std::size_t i = 0; i < m.n_nodes(); ++i)
+    for (std::size_t k = 0; k < 3; ++k) {
+      b[k] = std::min(b[k], m.X[3 * i + k]);
+      b[3 + k] = std::max(b[3 + k], m.X[3 * i + k]);
+    }
+  return b;
+}
+
 void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   const Deck d{j, deck_name};
+  if (j.contains("model_check")) check_deck_model(d, j["model_check"], m, m.name);
   m.name = m.name + " + " + deck_name;
   // Materials.
   if (!j.contains("materials") || !j["materials"].is_object() || j["materials"].empty())
@@ -321,7 +362,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   }
   if (const std::string key = pipeline::first_unknown_key(j, {"materials", "parts", "fixed", "prescribed", "loads",
                                                                "initial_velocity", "ties", "contact", "initial_state",
-                                                               "control", "output"});
+                                                               "control", "output", "model_check"});
       !key.empty())
     throw d.bad("unknown top-level key '" + key + "'");
   check_model(m);

@@ -1,5 +1,6 @@
 #pragma once
 /// Loading a model: a gmsh mesh with named physical groups plus the JSON deck of solve/README.md.
+#include <array>
 #include <string>
 
 #include "solve/model.h"
@@ -26,5 +27,9 @@ Model read_msh(const std::string& msh_path);
 /// in the model but not in the deck are dropped; a deck part must name a group with elements).
 /// `deck_name` is used in messages. Ends with check_model. @throws pipeline::Error(bad_input).
 void apply_deck(Model& m, const std::string& deck_json, const std::string& deck_name);
+
+/// The model's bounding box [mm]: lowest x, y, z, then highest. A deck's "model_check" holds it
+/// (with the node count) for the model it was made for, and apply_deck refuses another model.
+std::array<double, 6> model_bounds_mm(const Model& m);
 
 }  // namespace solve

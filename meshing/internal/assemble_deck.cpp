@@ -121,6 +121,11 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
                          const std::string& stage1_state) {
   using nlohmann::json;
   json d;
+  // The model the deck is made for, which solve checks (solve/README.md): a case's deck run on
+  // another case's model ran 10 minutes before stage II's ties failed.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& p : m.nodes) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  d["model_check"] = {{"nodes", m.nodes.size()}, {"bounds_mm", {{lo.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), hi.z()}}}};
   d["materials"] = deck_materials(mat);
   // Part groups: "<part>_<tissue>" wedges of the head, respirator layers, straps, back of head.
   auto material_of = [&](const std::string& g) -> std::string {

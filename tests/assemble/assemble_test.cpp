@@ -214,6 +214,10 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   EXPECT_EQ(d1["output"]["history_groups"].size(), 4u) << d1["output"];  // a force history per strap end
   EXPECT_EQ(d2["output"]["history_groups"].size(), 4u) << d2["output"];
   EXPECT_EQ(d2["ties"].size(), 4u);
+  // Both decks name the model they are for (solve refuses another): its node count and box.
+  EXPECT_EQ(d1["model_check"]["nodes"].get<std::size_t>(), model.nodes.size());
+  EXPECT_EQ(d1["model_check"], d2["model_check"]);
+  EXPECT_LT(d1["model_check"]["bounds_mm"][0][1].get<double>(), d1["model_check"]["bounds_mm"][1][1].get<double>());
   expect_end_paths_around_the_head(model, d1, 1.0);
   // Opens in gmsh (our reader is gmsh's) and in meshio.
   const auto back = layering::read_fe_model(path);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 
 #include "pipeline/error.h"
@@ -121,6 +122,33 @@ TEST(apply_deck, errors_name_the_key) {
   EXPECT_EQ(with(R"("contact": [{"slave": "zmax", "master": "zmin", "_note": "a comment"}], )" + end), "no error");
   EXPECT_EQ(with(R"("ties": [{"group_a": "zmax", "group_b": "zmax"}], )" + end),
             "d.json: ties[zmax-zmax]: ties group 'zmax' to itself");
+}
+
+// A deck assemble wrote names the model it was made for ("model_check": node count and bounding
+// box): medium_onesize's stage I deck on the medium_twosize-m model ran 10 minutes, its strap ends
+// driven to points 0.4-6 mm off that model's attachments, and stage II's ties failed naming a
+// node. The same model passes; another node count, or a box moved by more than 1 µm, is refused.
+TEST(apply_deck, a_deck_made_for_another_model_is_refused) {
+  const solve::Model base = solve::make_block({}, {"m", 1e-3, 1, 0.3, false});  // 3 x 3 x 3 nodes, 1 mm
+  const auto box = solve::model_bounds_mm(base);
+  EXPECT_EQ(box, (std::array<double, 6>{0, 0, 0, 1, 1, 1}));
+  const auto message = [&](std::size_t nodes, double high_z_mm) {
+    solve::Model m = base;
+    const std::string deck =
+        R"({"model_check": {"nodes": )" + std::to_string(nodes) + R"(, "bounds_mm": [[0, 0, 0], [1, 1, )" +
+        pipeline::format_number(high_z_mm) +
+        R"(]]}, "materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.3}}, "parts": [{"group": "block", "material": "m"}], )"
+        R"("control": {"end_time": 1}})";
+    return bad_input_message([&] { solve::apply_deck(m, deck, "d.json"); });
+  };
+  EXPECT_EQ(message(27, 1), "no error");
+  EXPECT_EQ(message(27, 1 + 5e-4), "no error");
+  EXPECT_EQ(message(28, 1),
+            "d.json: made for a model of 28 nodes from (0.0, 0.0, 0.0) mm to (1.0, 1.0, 1.0) mm, and block has 27 nodes "
+            "from (0.0, 0.0, 0.0) mm to (1.0, 1.0, 1.0) mm: the deck of another case, or of an earlier assemble? "
+            "(assemble writes the model and its decks together)");
+  EXPECT_NE(message(27, 1.1).find("made for a model of 27 nodes from (0.0, 0.0, 0.0) mm to (1.0, 1.0, 1.1) mm"),
+            std::string::npos);
 }
 
 // A contact's slave node without mass is named as outputs name it: by its tag, or by its 1-based
