@@ -1,11 +1,12 @@
 #include "pipeline/read_json.h"
 
-#include "pipeline/atomic_write.h"
-#include "pipeline/error.h"
-
+#include <cstdio>
 #include <functional>
 #include <set>
 #include <vector>
+
+#include "pipeline/atomic_write.h"
+#include "pipeline/error.h"
 
 namespace pipeline {
 
@@ -80,7 +81,20 @@ nlohmann::json parse_json(const std::string& text, const std::string& name) {
 std::string json_error_text(const nlohmann::json::exception& e) {
   const std::string what = e.what();
   const auto tag_end = what.find("] ");
-  return tag_end == std::string::npos ? what : what.substr(tag_end + 2);
+  // nlohmann quotes the bytes it read last: those of a binary file given as a deck went to the
+  // terminal raw. Bytes outside printable ASCII are shown as \xNN.
+  std::string text;
+  for (const char c : tag_end == std::string::npos ? what : what.substr(tag_end + 2)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u < 0x7f) {
+      text += c;
+    } else {
+      char hex[5];
+      std::snprintf(hex, sizeof hex, "\\x%02x", u);
+      text += hex;
+    }
+  }
+  return text;
 }
 
 nlohmann::json read_json(const std::string& path) { return parse_json(read_text(path), path); }

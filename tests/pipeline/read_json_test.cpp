@@ -55,6 +55,13 @@ TEST(read_json, missing_empty_and_malformed_files_are_bad_input_naming_the_file)
   EXPECT_NE(std::string(error_of(truncated).what()).find("not valid JSON: parse error at line 1"), std::string::npos)
       << error_of(truncated).what();
   EXPECT_THROW(pipeline::parse_json("[1,", "deck"), pipeline::Error);
+  // a binary file given as a deck: the bytes nlohmann quotes went to the terminal raw
+  try {
+    pipeline::parse_json(std::string("\x7f" "ELF\x02\x01", 6), "deck");
+    ADD_FAILURE() << "no error";
+  } catch (const pipeline::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("last read: '\\x7f'"), std::string::npos) << e.what();
+  }
 }
 
 // nlohmann keeps the last of two equal keys silently: a deck's second "end_time" would have won.
