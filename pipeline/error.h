@@ -13,7 +13,8 @@ enum class ErrorKind {
   usage = 1,      ///< bad command line
   bad_input = 2,  ///< the user's data is unusable (missing, empty, truncated, NaN, ...)
   algorithm = 3,  ///< the data was read but the algorithm could not finish
-  io = 4          ///< writing an output failed
+  io = 4,         ///< writing an output failed
+  interrupted = 130  ///< stopped by SIGINT (Ctrl-C) or SIGTERM (the shell's 128 + SIGINT)
 };
 
 /// An error with a kind. The message names the file or entity first:

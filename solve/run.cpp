@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -80,6 +81,31 @@ void require_room_for_outputs(const Model& m, std::size_t elements, const std::s
                                          " are free there: raise control.output_interval or history_interval");
 }
 
+// SIGINT (Ctrl-C) or SIGTERM, noted by the handler StopSignals installs for the time loop. Their
+// default action killed a run with its frames' temporary file left beside an earlier run's
+// results, which looked like this run's; the loop now stops after its step and cleans up. A
+// signal the run was started ignoring (SIGINT for `solve ... &` in a script) stays ignored.
+volatile std::sig_atomic_t stop_signal = 0;
+extern "C" void note_stop_signal(int sig) { stop_signal = sig; }
+
+struct StopSignals {
+  struct sigaction old_int {}, old_term {};
+  StopSignals() {
+    stop_signal = 0;
+    struct sigaction a {};
+    a.sa_handler = note_stop_signal;
+    sigemptyset(&a.sa_mask);
+    sigaction(SIGINT, nullptr, &old_int);
+    sigaction(SIGTERM, nullptr, &old_term);
+    if (old_int.sa_handler != SIG_IGN) sigaction(SIGINT, &a, nullptr);
+    if (old_term.sa_handler != SIG_IGN) sigaction(SIGTERM, &a, nullptr);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int, nullptr);
+    sigaction(SIGTERM, &old_term, nullptr);
+  }
+};
+
 }  // namespace
 
 std::string starting_state_file(const Model& m, const RunOptions& opt) {
@@ -119,7 +145,11 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   if (!(s.time() < m.control.end_time))
     throw pipeline::bad_input(start_file, "the run starts at t = " + fmt(s.time()) + " ms, not before control.end_time " +
                                               fmt(m.control.end_time) + " ms (" +
-                                              (opt.restart.empty() ? "initial_state.reset_time" : "a later end_time") + "?)");
+                                              (opt.restart.empty()
+                                                   ? "initial_state.reset_time?)"
+                                                   : "--restart continues a run in its own time, to a later end_time; "
+                                                     "to start a new stage from this state, name it in the deck's "
+                                                     "initial_state with reset_time, and leave --restart out)"));
   // An end time in the wrong unit (s read as ms is a factor 1000; 1e300 is a typo) would run for
   // days or for ever: a billion steps is 115 days of the medium_onesize model (~100 steps/s on 2
   // cores, 2026-12-05). Checked before the output directory is made.
@@ -148,7 +178,9 @@ RunSummary run(const Model& model, const RunOptions& opt) {
                            std::min(steps_needed, span / hist_dt) + 2, opt.write_results);
   std::error_code ec;
   fs::create_directories(opt.out_dir, ec);
-  if (!fs::is_directory(opt.out_dir)) throw pipeline::io_failed(opt.out_dir, "cannot create the output directory");
+  if (!fs::is_directory(opt.out_dir))
+    throw pipeline::io_failed(opt.out_dir, fs::exists(opt.out_dir) ? "is a file, not a directory"
+                                                                   : "cannot create the output directory: " + ec.message());
   pipeline::require_writable_outputs({(fs::path(opt.out_dir) / "state.bin").string()});  // else found at the end
   pipeline::log("solve", std::to_string(m.n_nodes()) + " nodes, " + std::to_string(n_elem) + " elements, " +
                              std::to_string(m.contacts.size()) + " contact pair(s); stable dt " +
@@ -156,10 +188,20 @@ RunSummary run(const Model& model, const RunOptions& opt) {
                              " g, added by mass scaling " + fmt(s.added_mass()) + " g (" +
                              fmt(100 * s.added_mass() / std::max(1e-300, s.physical_mass())) +
                              " %); threads " + std::to_string(omp_get_max_threads()));
-  // 2. Outputs being built.
+  // 2. Outputs being built. The files of a sound run. An earlier run's are removed first, so none
+  // of them can pass for this run's results if it stops (a signal, divergence, a failed write;
+  // the state this run started from is kept: it is the user's input); a sound run removes the
+  // diverged_* files of an earlier failure.
   const fs::path dir(opt.out_dir);
   const std::string frames_path = (dir / ".results.frames.tmp").string();
   std::ofstream frames;
+  auto remove_outputs = [&] {
+    if (frames.is_open()) frames.close();
+    fs::remove(frames_path, ec);
+    for (const char* f : sound_run_files)
+      if (start_file.empty() || !fs::equivalent(dir / f, start_file, ec)) fs::remove(dir / f, ec);
+  };
+  remove_outputs();
   if (opt.write_results) frames.open(frames_path);
   std::string energy_csv = "time_ms,kinetic_mJ,internal_mJ,contact_mJ,damping_mJ,external_work_mJ,scheme_term_mJ,"
                            "balance_error_mJ\n";
@@ -178,16 +220,6 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   long step0 = s.steps();
   SolverState good = s.state();
   RunSummary sum;
-  // The files of a sound run. A run that diverges or cannot write its outputs removes those an
-  // earlier run left in the same directory, so none of them can pass for its results (except the
-  // state this run started from: it is the user's input); a sound run removes the diverged_*
-  // files of an earlier failure.
-  auto remove_outputs = [&] {
-    if (frames.is_open()) frames.close();
-    fs::remove(frames_path, ec);
-    for (const char* f : sound_run_files)
-      if (start_file.empty() || !fs::equivalent(dir / f, start_file, ec)) fs::remove(dir / f, ec);
-  };
   auto fail = [&](const std::string& why) {
     remove_outputs();
     const std::string diag = (dir / "diverged_state.bin").string();
@@ -197,7 +229,15 @@ RunSummary run(const Model& model, const RunOptions& opt) {
                                                  std::to_string(s.steps()) + "): " + why + "; last good state (t = " +
                                                  fmt(good.time) + " ms) in " + diag + ", no results written");
   };
+  const StopSignals stop_signals;
   while (true) {
+    if (stop_signal) {
+      remove_outputs();
+      throw pipeline::Error(pipeline::ErrorKind::interrupted,
+                            m.name + ": stopped by " + (stop_signal == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM") +
+                                " at t = " + fmt(s.time()) + " ms (step " + std::to_string(s.steps()) +
+                                "), no results written");
+    }
     const bool last = s.time() >= c.end_time;
     if (opt.write_results && (s.time() >= next_out - 1e-12 || last)) {
       write_frame(frames, m, s, frame++);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -65,6 +66,40 @@ int count(const std::string& text, const std::string& what) {
 }
 
 }  // namespace
+
+// Ctrl-C (SIGINT) or SIGTERM killed a run and left its frames' temporary file beside the results
+// of an earlier run in the same folder, which looked like this run's (and stage II would have
+// started from the old state.bin). Now an earlier run's outputs are removed when a run starts,
+// and a signal stops the run after its step: exit 130, one line, nothing of either run left.
+TEST(solve_cli, a_run_stopped_by_a_signal_leaves_no_outputs_of_its_own_or_of_an_earlier_run) {
+  CliCase c;
+  c.write("short.json", deck(1.0));
+  std::string long_deck = deck(1e5);  // about 5 million steps: minutes
+  const std::string every_quarter = "\"output_interval\": 0.25";
+  long_deck.replace(long_deck.find(every_quarter), every_quarter.size(), "\"output_interval\": 1000");
+  c.write("long.json", long_deck);
+  for (const std::string signal : {"INT", "TERM"}) {
+    ASSERT_EQ(c.solve("short.json", "stopped"), 0) << c.read("err.txt");
+    for (const char* f : {"results.msh", "energy.csv", "forces.csv", "state.bin"})
+      ASSERT_TRUE(fs::exists(c.dir + "/stopped/" + f)) << f;
+    // timeout sends the signal after 2 s and returns the run's own exit status
+    EXPECT_EQ(c.sh("timeout --preserve-status -s " + signal + " 2 " + std::string(BIN_DIR) + "/solve --model " + c.dir +
+                   "/block.msh --deck " + c.dir + "/long.json --out-dir " + c.dir + "/stopped"),
+              130)
+        << c.read("err.txt");
+    std::string last;
+    std::istringstream err(c.read("err.txt"));
+    for (std::string line; std::getline(err, line);) last = line;
+    EXPECT_EQ(last.rfind("solve: ", 0), 0u) << last;
+    EXPECT_NE(last.find(signal == "INT" ? ": stopped by SIGINT (Ctrl-C) at t = " : ": stopped by SIGTERM at t = "),
+              std::string::npos)
+        << last;
+    EXPECT_NE(last.find("no results written"), std::string::npos) << last;
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(c.dir + "/stopped")) left.push_back(e.path().filename().string());
+    EXPECT_TRUE(left.empty()) << left.front();
+  }
+}
 
 // gmsh does not see its write errors: under a file size limit (as on a full disk) results.msh
 // came out cut short with exit 0, beside a complete state.bin. Now the run exits 4 naming it and
@@ -174,6 +209,26 @@ TEST(solve_cli, good_run_writes_results_state_and_histories) {
   EXPECT_GE(t0_ms, 1.0);
   EXPECT_LT(t0_ms, 1.1);
   EXPECT_GT(internal_mJ, 0.01);
+  // --restart with a deck that ends where the state is: the way to a new stage from it is the
+  // deck's initial_state, which the message says (it said "a later end_time?", as for a run
+  // continued, and stage II run so was refused).
+  EXPECT_EQ(c.solve("deck.json", "out3", "--restart " + c.dir + "/out/state.bin"), 2);
+  EXPECT_NE(c.read("err.txt").find("--restart continues a run in its own time, to a later end_time; to start a new "
+                                   "stage from this state, name it in the deck's initial_state"),
+            std::string::npos)
+      << c.read("err.txt");
+  // --end-time-ms: a shorter trial of the same deck, without editing it
+  ASSERT_EQ(c.solve("deck2.json", "short", "--end-time-ms 0.5"), 0) << c.read("err.txt");
+  const std::string energy_short = c.read("short/energy.csv");
+  double last_ms = 0;
+  for (std::size_t at = energy_short.find('\n') + 1; at < energy_short.size(); at = energy_short.find('\n', at) + 1)
+    last_ms = std::atof(energy_short.c_str() + at);
+  EXPECT_GT(last_ms, 0.4);
+  EXPECT_LT(last_ms, 0.5);
+  // an --out-dir that is a file: said so (it was "cannot create the output directory")
+  c.write("a_file", "x\n");
+  EXPECT_EQ(c.solve("deck.json", "a_file"), 4);
+  EXPECT_NE(c.read("err.txt").find("/a_file: is a file, not a directory"), std::string::npos) << c.read("err.txt");
   // meshio conversion for ParaView
   ASSERT_EQ(c.sh(std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/solve/msh_to_vtu.py " + c.dir +
                  "/out/results.msh " + c.dir + "/out/results.xdmf"),
