@@ -184,7 +184,8 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   pipeline::require_writable_outputs({(fs::path(opt.out_dir) / "state.bin").string()});  // else found at the end
   pipeline::log("solve", std::to_string(m.n_nodes()) + " nodes, " + std::to_string(n_elem) + " elements, " +
                              std::to_string(m.contacts.size()) + " contact pair(s); stable dt " +
-                             fmt(s.stable_dt()) + " ms, dt " + fmt(s.dt()) + " ms; mass " + fmt(s.total_mass()) +
+                             fmt(s.stable_dt()) + " ms (part " + (s.step_limiting_part().empty() ? "none" : s.step_limiting_part()) +
+                             "), dt " + fmt(s.dt()) + " ms, " + fmt(std::ceil(steps_needed)) + " steps; mass " + fmt(s.total_mass()) +
                              " g, added by mass scaling " + fmt(s.added_mass()) + " g (" +
                              fmt(100 * s.added_mass() / std::max(1e-300, s.physical_mass())) +
                              " %); threads " + std::to_string(omp_get_max_threads()));

@@ -26,6 +26,7 @@ struct Solver::Impl {
   internal::Constraints con;
   std::vector<ContactPair> pairs;
   double time = 0, dt = 0, dt_stable = 0, added = 0;
+  std::string step_part;  // the part whose element sets the starting stable step ("" if none)
   double physical = 0;  // summed apart: total − added loses it when added is 1e15 times larger
   long step = 0;
   Energies en;  // time and kinetic of the last step, the rest of the last that requested them
@@ -83,7 +84,7 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
       s.added += me * (f - 1);
       s.physical += me;
       for (int a = 0; a < b.nn; ++a) s.mass[b.conn[e * b.nn + a]] += me * f / b.nn;
-      dt_min = std::min(dt_min, edt[e] * std::sqrt(f));
+      if (edt[e] * std::sqrt(f) < dt_min) dt_min = edt[e] * std::sqrt(f), s.step_part = part.name;
     }
     s.blocks.push_back(std::move(b));
     s.mass_factor.push_back(std::move(factor));
@@ -271,6 +272,7 @@ double Solver::time() const { return p_->time; }
 double Solver::dt() const { return p_->dt; }
 long Solver::steps() const { return p_->step; }
 double Solver::stable_dt() const { return p_->dt_stable; }
+const std::string& Solver::step_limiting_part() const { return p_->step_part; }
 double Solver::added_mass() const { return p_->added; }
 double Solver::physical_mass() const { return p_->physical; }
 double Solver::total_mass() const { return std::accumulate(p_->mass.begin(), p_->mass.end(), 0.0); }

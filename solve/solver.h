@@ -79,6 +79,9 @@ class Solver {
   double dt() const;
   long steps() const;
   double stable_dt() const;          ///< stable step from the elements (before dt_scale) [ms]
+  /// The part whose element set the stable step at the start ("" when only rigid parts): the one
+  /// to look at when a run needs far more steps than expected (an E in Pa read as MPa).
+  const std::string& step_limiting_part() const;
   double added_mass() const;         ///< mass added by mass scaling [g]
   double physical_mass() const;      ///< the parts' own mass, without mass scaling [g]
   double total_mass() const;         ///< [g]

@@ -486,6 +486,22 @@ TEST(mass_scaling, target_step_adds_mass_and_keeps_static_answer) {
   EXPECT_LT(err, 1e-3 * umax);
 }
 
+// The run's first line names the part whose element sets the step: a skin E in Pa read as MPa
+// (6e5) asked 9.4 million steps of medium_onesize's stage I, and only the ETA showed it.
+TEST(stable_step, the_part_that_sets_it_is_named) {
+  solve::Model m = busy_block();
+  EXPECT_EQ(solve::Solver(m).step_limiting_part(), "block");
+  solve::BlockSpec small;
+  small.nx = 4; small.ny = 4; small.nz = 4;
+  small.origin = {10, 0, 0};
+  small.part = "stiff";
+  solve::append_model(m, solve::make_block(small, {"stiff", 1e-3, 1000, 0.3, false}), "s_");
+  for (int d = 0; d < 3; ++d) m.bcs.push_back({"s_zmin", d, solve::BcKind::fixed, {}});
+  const solve::Solver both(m);
+  EXPECT_EQ(both.step_limiting_part(), m.parts.back().name);
+  EXPECT_NE(both.step_limiting_part().find("stiff"), std::string::npos) << both.step_limiting_part();
+}
+
 // Penetration guard: the block pressed on the base penetrates ~2 µm; a tolerance of 0.1 µm stops
 // the run with the diagnostic state and no results.
 TEST(run, guard_trips_on_penetration) {
