@@ -99,24 +99,28 @@ void check_model(const Model& m) {
       has_mass[id] = 1;
     }
   }
-  auto check_group = [&](const std::string& g) { m.group(g); };
+  // A group named by a deck entry: the message names the entry too (it named only the group).
+  auto check_group = [&](const std::string& g, const std::string& entry) {
+    if (!m.node_groups.count(g)) throw bad(entry + ": no physical group named '" + g + "'");
+  };
   for (const auto& b : m.bcs) {
-    check_group(b.group);
+    check_group(b.group, (b.kind == BcKind::fixed ? "fixed[" : "prescribed[") + b.group + "]");
     if (b.dof < 0 || b.dof > 2) throw bad("boundary condition on '" + b.group + "': dof must be x, y or z");
   }
-  for (const auto& l : m.loads) check_group(l.group);
-  for (const auto& iv : m.initial_velocities) check_group(iv.group);
+  for (const auto& l : m.loads) check_group(l.group, "loads[" + l.group + "]");
+  for (const auto& iv : m.initial_velocities) check_group(iv.group, "initial_velocity[" + iv.group + "]");
   std::set<std::string> names;  // a second tie or contact of one name is a copy-paste slip
   for (const auto& t : m.ties) {
-    check_group(t.group_a);
-    check_group(t.group_b);
+    check_group(t.group_a, "tie '" + t.name + "'");
+    check_group(t.group_b, "tie '" + t.name + "'");
     if (!(t.tolerance > 0)) throw bad("tie '" + t.name + "': tolerance must be > 0 [mm]");
     if (!names.insert("tie " + t.name).second) throw bad("two ties named '" + t.name + "'");
   }
   // The same slave group on the same master surface twice doubled the penalty without a word.
   std::map<std::pair<std::string, std::string>, std::string> pair_names;
   for (const auto& c : m.contacts) {
-    check_group(c.slave);
+    check_group(c.slave, "contact '" + c.name + "'");
+    check_group(c.master, "contact '" + c.name + "'");
     m.surface(c.master);
     if (!(c.penalty_scale > 0 && c.penalty_scale <= 1))
       throw bad("contact '" + c.name + "': penalty_scale must be in (0, 1]");
@@ -128,7 +132,7 @@ void check_model(const Model& m) {
       throw bad("contacts '" + it->second + "' and '" + c.name + "' both press '" + c.slave + "' on '" + c.master +
                 "': a pair once, or its penalty counts twice");
   }
-  for (const auto& g : m.output.history_groups) check_group(g);
+  for (const auto& g : m.output.history_groups) check_group(g, "output.history_groups");
   for (const auto& c : m.contacts)
     for (int id : m.group(c.slave))
       if (!has_mass[id]) throw bad("contact '" + c.name + "': slave node " + std::to_string(m.node_tag(std::size_t(id))) + " belongs to no part (no mass)");

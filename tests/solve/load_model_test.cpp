@@ -120,6 +120,12 @@ TEST(apply_deck, errors_name_the_key) {
                     R"("parts": [{"group": "block", "material": "m", "thick": 1}], )" + end + "}"),
             "d.json: parts[block].thick: unknown key");
   EXPECT_EQ(with(R"("contact": [{"slave": "zmax", "master": "zmin", "_note": "a comment"}], )" + end), "no error");
+  // a group that does not exist: the entry that names it is named too
+  EXPECT_EQ(with(R"("fixed": [{"group": "zmn", "dofs": "z"}], )" + end), "block + d.json: fixed[zmn]: no physical group named 'zmn'");
+  EXPECT_EQ(with(R"("contact": [{"slave": "zmax", "master": "zmn", "name": "c"}], )" + end),
+            "block + d.json: contact 'c': no physical group named 'zmn'");
+  EXPECT_EQ(with(R"("output": {"history_groups": ["zmax", "top"]}, )" + end),
+            "block + d.json: output.history_groups: no physical group named 'top'");
   EXPECT_EQ(with(R"("ties": [{"group_a": "zmax", "group_b": "zmax"}], )" + end),
             "d.json: ties[zmax-zmax]: ties group 'zmax' to itself");
 }
