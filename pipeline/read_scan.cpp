@@ -331,9 +331,10 @@ std::string why_stl_unreadable(const std::string& path, const std::string& assim
 
 // Plain "x y z [nx ny nz]" lines. CGAL's XYZ reader silently skips malformed lines; a scan
 // with a garbled line is more likely a wrong file, so we parse it here and name the line.
-PointCloud read_xyz(const std::string& path) {
+PointCloud read_xyz(const std::string& path, std::vector<std::string>* notes) {
   std::ifstream in(path);
   PointCloud c;
+  bool colours = true;  // every value of columns 4-6 a whole number in [0, 255]
   std::string line;
   std::size_t line_no = 0;
   while (std::getline(in, line)) {
@@ -357,9 +358,20 @@ PointCloud read_xyz(const std::string& path) {
                                 std::to_string(v.size()));
     c.points.emplace_back(v[0], v[1], v[2]);
     if (v.size() == 6) c.normals.emplace_back(v[3], v[4], v[5]);
+    for (std::size_t k = 3; k < v.size(); ++k) colours = colours && v[k] >= 0 && v[k] <= 255 && v[k] == std::floor(v[k]);
   }
   if (!c.normals.empty() && c.normals.size() != c.points.size())
     throw bad_input(path, "normals given on some lines only");
+  // Scanners export "x y z r g b" as often as "x y z nx ny nz": colours read as normals (255 0 0)
+  // steered the orientation and Poisson. Whole numbers in [0, 255], some above 1, are no unit
+  // normals: they are left out, and the normals are estimated.
+  double largest = 0;
+  for (const auto& n : c.normals) largest = std::max({largest, n.x(), n.y(), n.z()});
+  if (!c.normals.empty() && colours && largest > 1) {
+    c.normals.clear();
+    notes->push_back("columns 4-6 hold whole numbers from 0 to " + format_number(largest) +
+                     ", colours, not unit normals: left out (the normals are estimated)");
+  }
   return c;
 }
 
@@ -552,7 +564,7 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   require_file(path);
   const std::string ext = lower_extension(path);
   Scan scan;
-  if (ext == ".xyz" || ext == ".pts" || ext == ".txt") scan.cloud = read_xyz(path);
+  if (ext == ".xyz" || ext == ".pts" || ext == ".txt") scan.cloud = read_xyz(path, &scan.notes);
   else if (ext == ".ply") read_ply(path, scan);
   else if (ext == ".off") read_off(path, scan);
   else if (ext == ".obj" && !obj_has_faces(path)) scan.cloud = read_obj_points(path);

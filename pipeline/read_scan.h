@@ -1,9 +1,11 @@
 #pragma once
 /// Reading scans and meshes. Scanner formats: PLY (ascii/binary), STL (ascii/binary), OBJ, OFF
-/// (meshes or point sets) and XYZ/PTS (points, optionally with normals). PLY, OFF and XYZ are
+/// (meshes or point sets) and XYZ/PTS (points, optionally with normals; colour columns, "x y z r g
+/// b", are recognised and left out, with a note). PLY, OFF and XYZ are
 /// read with CGAL; STL and OBJ with assimp. PLY face indices of 8 or 16 bits, which CGAL's reader
 /// does not take, are widened to 32 bits in memory first.
 #include <string>
+#include <vector>
 
 #include "pipeline/surface_mesh.h"
 #include "pipeline/units.h"
@@ -21,6 +23,8 @@ struct Scan {
   PolygonSoup soup;    ///< filled when is_mesh
   PointCloud cloud;    ///< filled otherwise
   Unit unit = Unit::mm;  ///< unit the file was in (detected or forced)
+  /// What the reader left out of the file, for the stage's log ("columns 4-6 are colours ...")
+  std::vector<std::string> notes;
 };
 
 /// Reads a scan file of any supported format and scales it to mm.

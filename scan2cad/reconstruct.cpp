@@ -499,8 +499,10 @@ double scan_extent_mm(const pipeline::Scan& scan) {
 }  // namespace
 
 std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const {
-  return pipeline::describe_unit(scan.unit, pipeline::parse_unit(unit_name) == pipeline::Unit::automatic,
-                                 scan_extent_mm(scan), kind_name, expected_size_mm(kind()));
+  std::string text = pipeline::describe_unit(scan.unit, pipeline::parse_unit(unit_name) == pipeline::Unit::automatic,
+                                             scan_extent_mm(scan), kind_name, expected_size_mm(kind()));
+  for (const std::string& note : scan.notes) text += "; " + note;
+  return text;
 }
 
 void KindAndUnitOptions::require_plausible_size(const pipeline::Scan& scan, const std::string& path) const {

@@ -27,7 +27,7 @@ struct KindAndUnitOptions {
   ScanKind kind() const;
   /// @throws pipeline::Error(usage) on an unknown kind or unit.
   pipeline::ScanReadOptions read_options() const;
-  /// pipeline::describe_unit for `scan`, read with these options.
+  /// pipeline::describe_unit for `scan`, read with these options, then the reader's notes.
   std::string describe_unit(const pipeline::Scan& scan) const;
   /// With --unit given, pipeline::require_forced_unit_plausible for `scan`, read from `path`.
   void require_plausible_size(const pipeline::Scan& scan, const std::string& path) const;

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
@@ -196,6 +198,33 @@ TEST(read_scan, a_ply_with_8_or_16_bit_face_indices_is_read) {
   EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(past_file, {pipeline::Unit::mm}); }),
             past_file + ": face 3 refers to vertex 9 of 4");
   EXPECT_EQ(bad_input_message([&] { pipeline::read_surface_mesh(past_file); }), past_file + ": face 3 refers to vertex 9 of 4");
+}
+
+// "x y z r g b" is as common a scanner export as "x y z nx ny nz": the colours were read as
+// normals (255, 0, 0) and steered the orientation. Whole numbers in [0, 255], some above 1, are
+// left out with a note; unit normals, axis-aligned ones (whole numbers up to 1) among them, stay.
+TEST(read_scan, colour_columns_of_an_xyz_file_are_left_out_with_a_note) {
+  pipeline::ScanReadOptions mm;
+  mm.unit = pipeline::Unit::mm;
+  const std::string points = "0 0 0 A\n100 0 0 B\n0 100 0 C\n0 0 100 D\n";
+  const auto file = [&](const std::string& name, const std::vector<std::string>& extra) {
+    std::string text = points;
+    for (const char* mark : {"A", "B", "C", "D"}) text.replace(text.find(mark), 1, extra[std::size_t(mark[0] - 'A')]);
+    return scratch_file(name, text);
+  };
+  const auto coloured = pipeline::read_scan(file("rgb.xyz", {"255 0 0", "0 255 0", "12 34 56", "200 200 200"}), mm);
+  EXPECT_EQ(coloured.cloud.points.size(), 4u);
+  EXPECT_TRUE(coloured.cloud.normals.empty());
+  ASSERT_EQ(coloured.notes.size(), 1u);
+  EXPECT_EQ(coloured.notes[0], "columns 4-6 hold whole numbers from 0 to 255, colours, not unit normals: left out "
+                               "(the normals are estimated)");
+  for (const auto& [name, normals] :
+       {std::pair<std::string, std::vector<std::string>>{"axes.xyz", {"0 0 1", "1 0 0", "0 1 0", "0 0 1"}},
+        {"unit.xyz", {"0.6 0.8 0", "-1 0 0", "0 0.28 0.96", "0 0 -1"}}}) {
+    const auto scan = pipeline::read_scan(file(name, normals), mm);
+    EXPECT_EQ(scan.cloud.normals.size(), 4u) << name;
+    EXPECT_TRUE(scan.notes.empty()) << name;
+  }
 }
 
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
