@@ -15,6 +15,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -329,18 +330,26 @@ std::string why_stl_unreadable(const std::string& path, const std::string& assim
   return "not a readable mesh" + (assimp_error.empty() ? std::string() : ": " + assimp_error);
 }
 
-// Plain "x y z [nx ny nz]" lines. CGAL's XYZ reader silently skips malformed lines; a scan
-// with a garbled line is more likely a wrong file, so we parse it here and name the line.
+// Point lines, one point a line, the same columns on every line: "x y z", "x y z nx ny nz", and
+// the scanner exports "x y z r g b", "x y z intensity" and "x y z intensity r g b" (Leica PTS,
+// whose first line is the point count), separated by white space or, on a line without any, by
+// commas. Written here because CGAL's XYZ reader takes "x y z [nx ny nz]" only and silently skips
+// the lines it cannot parse; a scan with a garbled line is more likely a wrong file, so its line
+// is named. What is left out (intensity, colours) is said in `notes`.
 PointCloud read_xyz(const std::string& path, std::vector<std::string>* notes) {
   std::ifstream in(path);
   PointCloud c;
-  bool colours = true;  // every value of columns 4-6 a whole number in [0, 255]
+  std::vector<std::array<double, 3>> extra;  // columns 4-6 of six-column lines: normals or colours
   std::string line;
-  std::size_t line_no = 0;
+  std::size_t line_no = 0, columns = 0, columns_line = 0;
+  double declared = -1;  // a PTS file's count line
   while (std::getline(in, line)) {
     ++line_no;
     const auto start = line.find_first_not_of(" \t\r");
-    if (start == std::string::npos || line[start] == '#') continue;
+    if (start == std::string::npos || line[start] == '#' || line.compare(start, 2, "//") == 0) continue;
+    if (line.find_first_of(" \t", start) == std::string::npos ||
+        line.find_first_not_of(" \t\r", line.find_first_of(" \t", start)) == std::string::npos)
+      std::replace(line.begin(), line.end(), ',', ' ');  // "x,y,z": a line with no white space inside
     std::istringstream ss(line);
     std::vector<double> v;
     std::string tok;
@@ -353,25 +362,41 @@ PointCloud read_xyz(const std::string& path, std::vector<std::string>* notes) {
         throw bad_input(path, "line " + std::to_string(line_no) + ": '" + tok + "' is not a number");
       }
     }
-    if (v.size() != 3 && v.size() != 6)
-      throw bad_input(path, "line " + std::to_string(line_no) + ": expected 3 or 6 numbers, got " +
+    if (v.size() == 1 && columns == 0 && declared < 0 && v[0] >= 0 && v[0] == std::floor(v[0])) {
+      declared = v[0];  // PTS: the number of points
+      continue;
+    }
+    if (v.size() != 3 && v.size() != 4 && v.size() != 6 && v.size() != 7)
+      throw bad_input(path, "line " + std::to_string(line_no) + ": expected 3 (x y z), 4 (x y z intensity), 6 (x y z "
+                                "and normals or colours) or 7 (x y z intensity r g b) numbers, got " +
                                 std::to_string(v.size()));
+    if (columns == 0) columns = v.size(), columns_line = line_no;
+    if (v.size() != columns)
+      throw bad_input(path, "line " + std::to_string(line_no) + " holds " + std::to_string(v.size()) +
+                                " numbers, line " + std::to_string(columns_line) + " held " + std::to_string(columns) +
+                                ": one kind of line a file");
     c.points.emplace_back(v[0], v[1], v[2]);
-    if (v.size() == 6) c.normals.emplace_back(v[3], v[4], v[5]);
-    for (std::size_t k = 3; k < v.size(); ++k) colours = colours && v[k] >= 0 && v[k] <= 255 && v[k] == std::floor(v[k]);
+    if (v.size() == 6) extra.push_back({v[3], v[4], v[5]});
   }
-  if (!c.normals.empty() && c.normals.size() != c.points.size())
-    throw bad_input(path, "normals given on some lines only");
-  // Scanners export "x y z r g b" as often as "x y z nx ny nz": colours read as normals (255 0 0)
-  // steered the orientation and Poisson. Whole numbers in [0, 255], some above 1, are no unit
-  // normals: they are left out, and the normals are estimated.
+  if (declared >= 0 && double(c.points.size()) != declared)
+    throw bad_input(path, "its first line declares " + format_number(declared) + " points, the file holds " +
+                              std::to_string(c.points.size()) + " (truncated or edited?)");
+  if (columns == 4 || columns == 7)
+    notes->push_back(columns == 4 ? "column 4 (intensity) left out" : "columns 4-7 (intensity, colours) left out");
+  // "x y z r g b" is as common as "x y z nx ny nz": colours read as normals (255 0 0) steered the
+  // orientation and Poisson. Whole numbers in [0, 255], some above 1, are no unit normals.
+  bool colours = !extra.empty();
   double largest = 0;
-  for (const auto& n : c.normals) largest = std::max({largest, n.x(), n.y(), n.z()});
-  if (!c.normals.empty() && colours && largest > 1) {
-    c.normals.clear();
+  for (const auto& e : extra)
+    for (const double x : e) {
+      colours = colours && x >= 0 && x <= 255 && x == std::floor(x);
+      largest = std::max(largest, x);
+    }
+  if (colours && largest > 1)
     notes->push_back("columns 4-6 hold whole numbers from 0 to " + format_number(largest) +
                      ", colours, not unit normals: left out (the normals are estimated)");
-  }
+  else
+    for (const auto& e : extra) c.normals.emplace_back(e[0], e[1], e[2]);
   return c;
 }
 

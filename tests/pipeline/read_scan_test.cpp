@@ -227,6 +227,35 @@ TEST(read_scan, colour_columns_of_an_xyz_file_are_left_out_with_a_note) {
   }
 }
 
+// Scanner point exports beside "x y z [nx ny nz]": Leica PTS (a count line, then "x y z
+// intensity [r g b]"), and "x,y,z" lines. Each was refused at its first line ("expected 3 or 6
+// numbers"); a count that is not the file's, or lines of two kinds, are named.
+TEST(read_scan, pts_exports_and_comma_separated_points_are_read) {
+  pipeline::ScanReadOptions mm;
+  mm.unit = pipeline::Unit::mm;
+  const auto read = [&](const std::string& name, const std::string& text) { return pipeline::read_scan(scratch_file(name, text), mm); };
+  const auto pts = read("leica.pts", "4\n0 0 0 -1200\n100 0 0 17\n0 100 0 5\n0 0 100 -3\n");
+  EXPECT_EQ(pts.cloud.points.size(), 4u);
+  EXPECT_TRUE(pts.cloud.normals.empty());
+  EXPECT_EQ(pts.notes, std::vector<std::string>{"column 4 (intensity) left out"});
+  const auto rgb = read("leica_rgb.pts", "4\n0 0 0 -1200 255 0 0\n100 0 0 17 0 0 0\n0 100 0 5 1 2 3\n0 0 100 -3 9 9 9\n");
+  EXPECT_EQ(rgb.cloud.points.size(), 4u);
+  EXPECT_EQ(rgb.notes, std::vector<std::string>{"columns 4-7 (intensity, colours) left out"});
+  const auto commas = read("commas.xyz", "// X,Y,Z\n0,0,0\n100.5,0,0\n0,100,0\n0,0,100\n");
+  ASSERT_EQ(commas.cloud.points.size(), 4u);
+  EXPECT_EQ(commas.cloud.points[1].x(), 100.5);
+  // a decimal comma is not taken for a separator where the columns are spaced
+  const std::string decimal_comma = scratch_file("decimal_comma.xyz", "0 0 0\n100,5 0 0\n0 100 0\n");
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(decimal_comma, mm); }),
+            decimal_comma + ": line 2: '100,5' is not a number");
+  const std::string short_pts = scratch_file("short.pts", "5\n0 0 0 1\n100 0 0 1\n0 100 0 1\n0 0 100 1\n");
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(short_pts, mm); }),
+            short_pts + ": its first line declares 5 points, the file holds 4 (truncated or edited?)");
+  const std::string mixed = scratch_file("mixed.xyz", "0 0 0\n100 0 0 0 0 1\n0 100 0\n");
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(mixed, mm); }),
+            mixed + ": line 2 holds 6 numbers, line 1 held 3: one kind of line a file");
+}
+
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
 // "X.PLY" failed after the work ("unknown point cloud format '.PLY'"), since the writer compared
 // the ending as written. Both formats round trip under an upper-case ending.
