@@ -57,10 +57,18 @@ Constraints build_constraints(const Model& m, const std::vector<char>& rigid_nod
         for (int k = 0; k < 3; ++k) d2 += (x[3 * i + k] - x[3 * j + k]) * (x[3 * i + k] - x[3 * j + k]);
         if (d2 < bd && j != i) { bd = d2; best = j; }
       }
+      // Named by tag and position, with its distance; measured where the run starts, so a stage
+      // II whose stage I stopped short (the strap ends not yet at the rim) fails here.
       if (best < 0 || std::sqrt(bd) > t.tolerance)
-        throw pipeline::bad_input(m.name, "tie '" + t.name + "': node " + std::to_string(i) + " of '" + t.group_a +
-                                              "' has no node of '" + t.group_b + "' within " +
-                                              pipeline::format_number(t.tolerance) + " mm");
+        throw pipeline::bad_input(
+            m.name, "tie '" + t.name + "': node " + std::to_string(m.node_tag(std::size_t(i))) + " of '" + t.group_a +
+                        "' at " + pipeline::format_position_mm(x[3 * i], x[3 * i + 1], x[3 * i + 2]) + " is " +
+                        (best < 0 ? std::string("alone") : pipeline::format_number(std::sqrt(bd)) + " mm") +
+                        " from the nearest node of '" + t.group_b + "', more than the tolerance " +
+                        pipeline::format_number(t.tolerance) + " mm" +
+                        (m.initial_state.file.empty() ? std::string()
+                                                      : " (in the starting state " + m.initial_state.file +
+                                                            ": did the run that wrote it reach its end?)"));
       uf.unite(i, best);
     }
   }
