@@ -245,7 +245,9 @@ RunSummary run(const Model& model, const RunOptions& opt) {
       next_out = next_time(t0, out_dt, s.time());
     }
     if (last) break;
-    const bool hist = s.time() >= next_hist - 1e-12;
+    // A row at each history time and one at the last step: the tables ended up to one history
+    // interval before the end time (198 of stage I's 200 ms), whose state the results show.
+    const bool hist = s.time() >= next_hist - 1e-12 || s.time() + s.dt() >= c.end_time;
     if (hist) {
       s.request_energy();
       next_hist = next_time(t0, hist_dt, s.time());
