@@ -605,7 +605,8 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   // point (a scanner's marker at the origin) made a head look metres wide.
   if (scan.is_mesh) PMP::remove_isolated_points_in_polygon_soup(scan.soup.points, scan.soup.polygons);
 
-  scan.unit = opt.unit == Unit::automatic ? detect_unit(largest_extent(pts), opt.expected_size_mm, path) : opt.unit;
+  scan.unit =
+      opt.unit == Unit::automatic ? detect_unit(extent_without_far_points(pts), opt.expected_size_mm, path) : opt.unit;
   scale_points(pts, mm_per_unit(scan.unit));
   return scan;
 }

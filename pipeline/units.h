@@ -2,9 +2,11 @@
 /// Length units of scans. The whole project works in mm (DESIGN.md); a scan in another unit is
 /// scaled once, when it is read.
 #include <algorithm>
+#include <cstddef>
 #include <limits>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace pipeline {
 
@@ -42,6 +44,30 @@ double largest_extent(const PointRange& points) {
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], double(p[k])), hi[k] = std::max(hi[k], double(p[k]));
   }
   return any ? std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}) : 0.0;
+}
+
+/// The largest extent of `points` that unit detection and the size checks on a file compare with
+/// an object's: the bounding box's, unless a few far points stretch the box to more than 1.25
+/// times the bulk's (per axis, the span of the 0.5th to 99.5th percentile of the coordinates),
+/// and then the bulk's. One stray point or speck of debris a metre off (a scanner's, removed later
+/// as an outlier or a small component) made a head 4.4 m across, refused whatever --unit said.
+/// Without far points the box's extent, as largest_extent.
+template <class PointRange>
+double extent_without_far_points(const PointRange& points) {
+  const double box = largest_extent(points);
+  std::vector<double> c;
+  double bulk = 0;
+  for (int k = 0; k < 3; ++k) {
+    c.clear();
+    for (const auto& p : points) c.push_back(double(p[k]));
+    if (c.empty()) return 0;
+    const std::size_t lo = std::size_t(0.005 * double(c.size())), hi = c.size() - 1 - lo;
+    std::nth_element(c.begin(), c.begin() + std::ptrdiff_t(lo), c.end());
+    const double low = c[lo];
+    std::nth_element(c.begin(), c.begin() + std::ptrdiff_t(hi), c.end());
+    bulk = std::max(bulk, c[hi] - low);
+  }
+  return box > 1.25 * bulk ? bulk : box;
 }
 
 enum class Unit { automatic, mm, cm, m, inch };

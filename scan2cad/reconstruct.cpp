@@ -492,15 +492,21 @@ pipeline::ScanReadOptions KindAndUnitOptions::read_options() const {
   return read;
 }
 namespace {
-// The largest extent of what a scan holds [mm], its faces' vertices or its points.
-double scan_extent_mm(const pipeline::Scan& scan) {
-  return pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points);
+// The points of a scan, its faces' vertices or its cloud.
+const std::vector<pipeline::Point>& scan_points(const pipeline::Scan& scan) {
+  return scan.is_mesh ? scan.soup.points : scan.cloud.points;
 }
+// The largest extent of what a scan holds [mm], without a few far points (as unit detection).
+double scan_extent_mm(const pipeline::Scan& scan) { return pipeline::extent_without_far_points(scan_points(scan)); }
 }  // namespace
 
 std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const {
+  const double extent_mm = scan_extent_mm(scan), box_mm = pipeline::largest_extent(scan_points(scan));
   std::string text = pipeline::describe_unit(scan.unit, pipeline::parse_unit(unit_name) == pipeline::Unit::automatic,
-                                             scan_extent_mm(scan), kind_name, expected_size_mm(kind()));
+                                             extent_mm, kind_name, expected_size_mm(kind()));
+  if (box_mm > extent_mm)
+    text += "; a few far points stretch the box to " + pipeline::format_number(box_mm) +
+            " mm: outliers or debris, removed with them";
   for (const std::string& note : scan.notes) text += "; " + note;
   return text;
 }

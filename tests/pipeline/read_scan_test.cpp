@@ -256,6 +256,19 @@ TEST(read_scan, pts_exports_and_comma_separated_points_are_read) {
             mixed + ": line 2 holds 6 numbers, line 1 held 3: one kind of line a file");
 }
 
+// A head in metres with one stray return 1.2 m off: no unit was found ("cannot tell the length
+// unit"), the box being 1.2 m; the far point does not count (units.h, extent_without_far_points).
+TEST(read_scan, a_stray_point_far_off_does_not_decide_the_unit) {
+  std::string text;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j)
+      text += pipeline::format_number(0.0143 * i) + " " + pipeline::format_number(0.012 * j) + " 0.1\n";  // 286 x 240 mm
+  text += "0 0 1.2\n";
+  const auto scan = pipeline::read_scan(scratch_file("stray_m.xyz", text));
+  EXPECT_EQ(scan.unit, pipeline::Unit::m);
+  EXPECT_EQ(scan.cloud.points.size(), 442u);
+}
+
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
 // "X.PLY" failed after the work ("unknown point cloud format '.PLY'"), since the writer compared
 // the ending as written. Both formats round trip under an upper-case ending.

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -66,6 +67,22 @@ TEST(describe_unit, names_the_unit_how_it_was_chosen_and_the_size_it_gives) {
             "unit cm (detected, --unit forces one): largest extent 112.5 mm (a head is about 250)");
   EXPECT_EQ(pipeline::describe_unit(pipeline::Unit::inch, false, 285.7, "respirator", 130.0),
             "unit in (forced): largest extent 285.7 mm (a respirator is about 130)");
+}
+
+// One stray point or speck of debris a metre off made a head 4.4 m across: refused as no unit,
+// and refused again with --unit mm ("its largest extent is 4386 mm"). A few far points (up to
+// 0.5 % at each end of an axis) no longer count; without them the extent is the box's, exactly.
+TEST(extent_without_far_points, a_few_far_points_do_not_count) {
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) points.push_back({5.0 * i, 5.0 * j, 0.25 * (i + j)});  // 100 x 100 x 10 mm
+  EXPECT_EQ(pipeline::extent_without_far_points(points), 100.0);
+  points.push_back({0, 0, 1200});  // a stray return a metre off, beside 441 points
+  EXPECT_EQ(pipeline::largest_extent(points), 1200.0);
+  EXPECT_EQ(pipeline::extent_without_far_points(points), 100.0);
+  for (int k = 1; k <= 6; ++k) points.push_back({-1500.0 * k, 0, 0});  // 7 of 448: more than 0.5 %
+  EXPECT_GT(pipeline::extent_without_far_points(points), 4000.0);
+  EXPECT_EQ(pipeline::extent_without_far_points(std::vector<std::array<double, 3>>{}), 0.0);
 }
 
 // Stages after align read mm only: a head written in m, cm or inches is bad input naming the
