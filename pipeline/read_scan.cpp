@@ -528,34 +528,69 @@ void read_off(const std::string& path, Scan& scan) {
 }
 
 // OBJ files with vertices only are point clouds, which assimp does not import.
+// The keyword of an OBJ line ("v", "vn", "f", ...), after any leading white space: a face line
+// indented or written "f\t1\t2\t3" was not seen, and the mesh was read as a cloud of its vertices.
+std::string obj_keyword(const std::string& line) {
+  std::istringstream words(line);
+  std::string keyword;
+  words >> keyword;
+  return keyword;
+}
+
 bool obj_has_faces(const std::string& path) {
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line))
-    if (line.rfind("f ", 0) == 0) return true;
+    if (obj_keyword(line) == "f") return true;
   return false;
 }
 
+// The vertices of an OBJ without faces, with their normals when the file gives one "vn" a "v" (as
+// point-cloud exporters write them, in the same order).
 PointCloud read_obj_points(const std::string& path) {
   std::ifstream in(path);
   PointCloud c;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.rfind("v ", 0) != 0) continue;
-    std::istringstream ss(line.substr(2));
+    const std::string keyword = obj_keyword(line);
+    if (keyword != "v" && keyword != "vn") continue;
+    std::istringstream ss(line.substr(line.find(keyword) + keyword.size()));
     double x, y, z;
-    if (!(ss >> x >> y >> z)) throw bad_input(path, "malformed vertex line '" + line + "'");
-    c.points.emplace_back(x, y, z);
+    if (!(ss >> x >> y >> z)) throw bad_input(path, "malformed " + keyword + " line '" + line + "'");
+    if (keyword == "v")
+      c.points.emplace_back(x, y, z);
+    else
+      c.normals.emplace_back(x, y, z);
   }
+  if (c.normals.size() != c.points.size()) c.normals.clear();
   return c;
+}
+
+// An OBJ's text with each line's leading white space removed and tabs made spaces, or "" when it
+// has neither. assimp's OBJ parser skipped an indented face line or one written "f\t1\t2\t3" (a
+// mesh read with 2 of its 4 faces), and refused indented vertex lines ("vertex index out of range").
+std::string obj_text_assimp_reads(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text, line;
+  bool changed = false;
+  while (std::getline(in, line)) {
+    const std::size_t start = line.find_first_not_of(" \t");
+    changed = changed || (start != 0 && start != std::string::npos) || line.find('\t') != std::string::npos;
+    line.erase(0, std::min(start, line.size()));
+    std::replace(line.begin(), line.end(), '\t', ' ');
+    text += line + "\n";
+  }
+  return changed ? text : "";
 }
 
 void read_with_assimp(const std::string& path, Scan& scan) {
   Assimp::Importer importer;
   // Keep the triangles as scanned: only join the duplicated corners STL stores per facet.
   // Facet normals would keep corners apart, so they are dropped before the join.
-  const aiScene* sc = importer.ReadFile(
-      path, aiProcess_DropNormals | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate);
+  const unsigned steps = aiProcess_DropNormals | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate;
+  const std::string obj_text = lower_extension(path) == ".obj" ? obj_text_assimp_reads(path) : "";
+  const aiScene* sc = obj_text.empty() ? importer.ReadFile(path, steps)
+                                       : importer.ReadFileFromMemory(obj_text.data(), obj_text.size(), steps, "obj");
   if (!sc || !sc->mNumMeshes) {
     const std::string why = importer.GetErrorString();
     if (lower_extension(path) == ".stl") throw bad_input(path, why_stl_unreadable(path, why));

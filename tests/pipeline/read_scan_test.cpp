@@ -269,6 +269,25 @@ TEST(read_scan, a_stray_point_far_off_does_not_decide_the_unit) {
   EXPECT_EQ(scan.cloud.points.size(), 442u);
 }
 
+// OBJ lines indented or with tabs are valid OBJ: a face line written "f\t1\t3\t2" or indented was
+// not seen (the mesh read as a cloud of its vertices, or by assimp with 2 of its 4 faces), and
+// indented vertex lines made assimp refuse the file. A points-only OBJ keeps one "vn" a "v".
+TEST(read_scan, obj_lines_indented_or_with_tabs_are_read) {
+  pipeline::ScanReadOptions mm;
+  mm.unit = pipeline::Unit::mm;
+  const std::string tabs = "v 0 0 0\nv 100 0 0\nv 0 100 0\nv 0 0 100\nf\t1\t3\t2\n  f 1 2 4\nf 2 3 4\n\tf 1 4 3\n";
+  const std::string indented = "  v 0 0 0\n\tv 100 0 0\n v 0 100 0\nv 0 0 100\n  f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  for (const auto& [name, text] : {std::pair<std::string, std::string>{"tabs.obj", tabs}, {"indented.obj", indented}}) {
+    const auto scan = pipeline::read_scan(scratch_file(name, text), mm);
+    EXPECT_TRUE(scan.is_mesh) << name;
+    EXPECT_EQ(scan.soup.polygons.size(), 4u) << name;
+  }
+  const auto points = pipeline::read_scan(scratch_file("vn.obj", "v 0 0 0\nv 100 0 0\n  v 0 100 0\nvn 0 0 1\nvn 1 0 0\nvn 0 1 0\n"), mm);
+  EXPECT_FALSE(points.is_mesh);
+  EXPECT_EQ(points.cloud.points.size(), 3u);
+  EXPECT_EQ(points.cloud.normals.size(), 3u);
+}
+
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
 // "X.PLY" failed after the work ("unknown point cloud format '.PLY'"), since the writer compared
 // the ending as written. Both formats round trip under an upper-case ending.
