@@ -330,73 +330,107 @@ std::string why_stl_unreadable(const std::string& path, const std::string& assim
   return "not a readable mesh" + (assimp_error.empty() ? std::string() : ": " + assimp_error);
 }
 
-// Point lines, one point a line, the same columns on every line: "x y z", "x y z nx ny nz", and
-// the scanner exports "x y z r g b", "x y z intensity" and "x y z intensity r g b" (Leica PTS,
-// whose first line is the point count), separated by white space or, on a line without any, by
-// commas. Written here because CGAL's XYZ reader takes "x y z [nx ny nz]" only and silently skips
-// the lines it cannot parse; a scan with a garbled line is more likely a wrong file, so its line
-// is named. What is left out (intensity, colours) is said in `notes`.
+// The numbers of a point line, split at white space, commas or semicolons. A comma is a decimal
+// comma where the line's columns are split otherwise: by semicolons ("1,5;2,3;4,1", European
+// CSV), or by white space with a comma between two digits ("100,5 0 0"); else it is a separator
+// ("1,2,3", "1, 2, 3"). `words` gets the tokens that are not numbers.
+std::vector<double> point_line_numbers(std::string line, std::vector<std::string>* words) {
+  const bool semicolons = line.find(';') != std::string::npos;
+  bool decimal_commas = semicolons;
+  if (!semicolons && line.find_first_of(" \t") != std::string::npos)
+    for (std::size_t c = line.find(','); c != std::string::npos; c = line.find(',', c + 1))
+      decimal_commas = decimal_commas || (c > 0 && c + 1 < line.size() && std::isdigit(static_cast<unsigned char>(line[c - 1])) &&
+                                          std::isdigit(static_cast<unsigned char>(line[c + 1])));
+  for (char& ch : line)
+    if (ch == ';' || (ch == ',' && !decimal_commas)) ch = ' ';
+    else if (ch == ',') ch = '.';
+  std::istringstream ss(line);
+  std::vector<double> v;
+  for (std::string tok; ss >> tok;) {
+    char* end = nullptr;
+    const double x = std::strtod(tok.c_str(), &end);
+    if (end == tok.c_str() || *end != '\0') words->push_back(tok);
+    else v.push_back(x);
+  }
+  return v;
+}
+
+// Point lines, one point a line, the same columns on every line: x y z, then anything the
+// scanner or tool exports (normals, colours, intensity, a scalar field, in any order: "x y z nx ny
+// nz", "x y z r g b", "x y z intensity r g b", CloudCompare's "x y z r g b nx ny nz"), split at
+// white space, commas or semicolons (point_line_numbers), after an optional header line of names
+// ("X Y Z", "//X,Y,Z") or Leica PTS's count line. The normals are the three columns after x y z
+// whose rows are all unit vectors; the other columns are left out, said in `notes`. Written here
+// because CGAL's XYZ reader takes "x y z [nx ny nz]" only and silently skips lines it cannot
+// parse; a scan with a garbled line is more likely a wrong file, so its line is named.
 PointCloud read_xyz(const std::string& path, std::vector<std::string>* notes) {
   std::ifstream in(path);
-  PointCloud c;
-  std::vector<std::array<double, 3>> extra;  // columns 4-6 of six-column lines: normals or colours
+  std::vector<std::vector<double>> rows;
   std::string line;
-  std::size_t line_no = 0, columns = 0, columns_line = 0;
+  std::size_t line_no = 0, columns_line = 0;
   double declared = -1;  // a PTS file's count line
+  bool header_seen = false;
   while (std::getline(in, line)) {
     ++line_no;
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
     const auto start = line.find_first_not_of(" \t\r");
     if (start == std::string::npos || line[start] == '#' || line.compare(start, 2, "//") == 0) continue;
-    if (line.find_first_of(" \t", start) == std::string::npos ||
-        line.find_first_not_of(" \t\r", line.find_first_of(" \t", start)) == std::string::npos)
-      std::replace(line.begin(), line.end(), ',', ' ');  // "x,y,z": a line with no white space inside
-    std::istringstream ss(line);
-    std::vector<double> v;
-    std::string tok;
-    while (ss >> tok) {
-      try {
-        std::size_t pos = 0;
-        v.push_back(std::stod(tok, &pos));
-        if (pos != tok.size()) throw std::invalid_argument(tok);
-      } catch (...) {
-        throw bad_input(path, "line " + std::to_string(line_no) + ": '" + tok + "' is not a number");
-      }
+    std::vector<std::string> words;
+    std::vector<double> v = point_line_numbers(line, &words);
+    if (rows.empty() && declared < 0 && !header_seen && v.empty()) {
+      header_seen = true;  // "X Y Z R G B": names of the columns
+      continue;
     }
-    if (v.size() == 1 && columns == 0 && declared < 0 && v[0] >= 0 && v[0] == std::floor(v[0])) {
+    if (!words.empty())
+      throw bad_input(path, "line " + std::to_string(line_no) + ": '" + words[0] + "' is not a number");
+    if (rows.empty() && declared < 0 && v.size() == 1 && v[0] >= 0 && v[0] == std::floor(v[0])) {
       declared = v[0];  // PTS: the number of points
       continue;
     }
-    if (v.size() != 3 && v.size() != 4 && v.size() != 6 && v.size() != 7)
-      throw bad_input(path, "line " + std::to_string(line_no) + ": expected 3 (x y z), 4 (x y z intensity), 6 (x y z "
-                                "and normals or colours) or 7 (x y z intensity r g b) numbers, got " +
-                                std::to_string(v.size()));
-    if (columns == 0) columns = v.size(), columns_line = line_no;
-    if (v.size() != columns)
+    if (v.size() < 3)
+      throw bad_input(path, "line " + std::to_string(line_no) + ": " + std::to_string(v.size()) +
+                                " numbers, expected x y z and any further columns");
+    if (rows.empty()) columns_line = line_no;
+    if (!rows.empty() && v.size() != rows[0].size())
       throw bad_input(path, "line " + std::to_string(line_no) + " holds " + std::to_string(v.size()) +
-                                " numbers, line " + std::to_string(columns_line) + " held " + std::to_string(columns) +
-                                ": one kind of line a file");
-    c.points.emplace_back(v[0], v[1], v[2]);
-    if (v.size() == 6) extra.push_back({v[3], v[4], v[5]});
+                                " numbers, line " + std::to_string(columns_line) + " held " +
+                                std::to_string(rows[0].size()) + ": one kind of line a file");
+    rows.push_back(std::move(v));
   }
-  if (declared >= 0 && double(c.points.size()) != declared)
+  if (declared >= 0 && double(rows.size()) != declared)
     throw bad_input(path, "its first line declares " + format_number(declared) + " points, the file holds " +
-                              std::to_string(c.points.size()) + " (truncated or edited?)");
-  if (columns == 4 || columns == 7)
-    notes->push_back(columns == 4 ? "column 4 (intensity) left out" : "columns 4-7 (intensity, colours) left out");
-  // "x y z r g b" is as common as "x y z nx ny nz": colours read as normals (255 0 0) steered the
-  // orientation and Poisson. Whole numbers in [0, 255], some above 1, are no unit normals.
-  bool colours = !extra.empty();
-  double largest = 0;
-  for (const auto& e : extra)
-    for (const double x : e) {
-      colours = colours && x >= 0 && x <= 255 && x == std::floor(x);
-      largest = std::max(largest, x);
-    }
-  if (colours && largest > 1)
-    notes->push_back("columns 4-6 hold whole numbers from 0 to " + format_number(largest) +
-                     ", colours, not unit normals: left out (the normals are estimated)");
-  else
-    for (const auto& e : extra) c.normals.emplace_back(e[0], e[1], e[2]);
+                              std::to_string(rows.size()) + " (truncated or edited?)");
+  PointCloud c;
+  for (const auto& r : rows) c.points.emplace_back(r[0], r[1], r[2]);
+  const std::size_t columns = rows.empty() ? 3 : rows[0].size();
+  // The normals: the first three consecutive columns after x y z that are unit vectors on every
+  // row (|n| within 0.05 of 1). Colours (255 0 0, or 0-1 floats) and intensities are not, and
+  // colours read as normals had steered the orientation and Poisson.
+  std::size_t normals_at = 0;
+  for (std::size_t k = 3; k + 3 <= columns && normals_at == 0; ++k) {
+    bool unit = true;
+    for (const auto& r : rows) unit = unit && std::fabs(std::sqrt(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]) - 1) < 0.05;
+    if (unit) normals_at = k;
+  }
+  if (normals_at > 0)
+    for (const auto& r : rows) c.normals.emplace_back(r[normals_at], r[normals_at + 1], r[normals_at + 2]);
+  // The columns left out, counted from 1 as a spreadsheet shows them: "column 7", "columns 4-7".
+  std::vector<std::pair<std::size_t, std::size_t>> left;  // ranges, 1-based
+  for (std::size_t k = 3; k < columns; ++k) {
+    if (normals_at > 0 && k >= normals_at && k < normals_at + 3) continue;
+    if (!left.empty() && left.back().second == k) left.back().second = k + 1;
+    else left.push_back({k + 1, k + 1});
+  }
+  if (!left.empty()) {
+    std::string ranges;
+    for (const auto& [from, to] : left)
+      ranges += (ranges.empty() ? "" : " and ") + std::to_string(from) + (to > from ? "-" + std::to_string(to) : "");
+    const bool one = left.size() == 1 && left[0].first == left[0].second;
+    notes->push_back((one ? "column " : "columns ") + ranges + " left out (colours, intensity or other values" +
+                     (normals_at > 0 ? "; the normals are columns " + std::to_string(normals_at + 1) + "-" +
+                                           std::to_string(normals_at + 3) + ")"
+                                     : "; no three columns are unit normals, so the normals are estimated)"));
+  }
   return c;
 }
 
@@ -624,12 +658,13 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   require_file(path);
   const std::string ext = lower_extension(path);
   Scan scan;
-  if (ext == ".xyz" || ext == ".pts" || ext == ".txt") scan.cloud = read_xyz(path, &scan.notes);
+  if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv" || ext == ".asc")
+    scan.cloud = read_xyz(path, &scan.notes);
   else if (ext == ".ply") read_ply(path, scan);
   else if (ext == ".off") read_off(path, scan);
   else if (ext == ".obj" && !obj_has_faces(path)) scan.cloud = read_obj_points(path);
   else if (ext == ".stl" || ext == ".obj") read_with_assimp(path, scan);
-  else throw bad_input(path, "unknown scan format '" + ext + "', expected .ply .stl .obj .off .xyz or .pts");
+  else throw bad_input(path, "unknown scan format '" + ext + "', expected .ply .stl .obj .off, or points as text: .xyz .pts .txt .csv .asc");
 
   auto& pts = scan.is_mesh ? scan.soup.points : scan.cloud.points;
   if (pts.empty()) throw bad_input(path, "no points in file");

@@ -216,8 +216,8 @@ TEST(read_scan, colour_columns_of_an_xyz_file_are_left_out_with_a_note) {
   EXPECT_EQ(coloured.cloud.points.size(), 4u);
   EXPECT_TRUE(coloured.cloud.normals.empty());
   ASSERT_EQ(coloured.notes.size(), 1u);
-  EXPECT_EQ(coloured.notes[0], "columns 4-6 hold whole numbers from 0 to 255, colours, not unit normals: left out "
-                               "(the normals are estimated)");
+  EXPECT_EQ(coloured.notes[0], "columns 4-6 left out (colours, intensity or other values; no three columns are unit "
+                               "normals, so the normals are estimated)");
   for (const auto& [name, normals] :
        {std::pair<std::string, std::vector<std::string>>{"axes.xyz", {"0 0 1", "1 0 0", "0 1 0", "0 0 1"}},
         {"unit.xyz", {"0.6 0.8 0", "-1 0 0", "0 0.28 0.96", "0 0 -1"}}}) {
@@ -225,6 +225,19 @@ TEST(read_scan, colour_columns_of_an_xyz_file_are_left_out_with_a_note) {
     EXPECT_EQ(scan.cloud.normals.size(), 4u) << name;
     EXPECT_TRUE(scan.notes.empty()) << name;
   }
+  // colours as 0-1 floats were read as normals; CloudCompare's nine columns, colours then
+  // normals, and normals then a scalar field, were refused or lost their normals
+  const auto floats = pipeline::read_scan(file("rgb01.xyz", {"1 0 0", "0.5 0.5 0.5", "0 0 0", "0.2 0.9 0.1"}), mm);
+  EXPECT_TRUE(floats.cloud.normals.empty());
+  const auto nine = pipeline::read_scan(file("cc.xyz", {"255 0 0 0 0 1", "0 255 0 1 0 0", "1 2 3 0 1 0", "9 9 9 0 0 -1"}), mm);
+  EXPECT_EQ(nine.cloud.normals.size(), 4u);
+  EXPECT_EQ(nine.cloud.normals[1].x(), 1.0);
+  EXPECT_EQ(nine.notes, std::vector<std::string>{"columns 4-6 left out (colours, intensity or other values; the "
+                                                 "normals are columns 7-9)"});
+  const auto scalar = pipeline::read_scan(file("scalar.xyz", {"0 0 1 7.5", "1 0 0 2", "0 1 0 0", "0 0 1 3"}), mm);
+  EXPECT_EQ(scalar.cloud.normals.size(), 4u);
+  EXPECT_EQ(scalar.notes, std::vector<std::string>{"column 7 left out (colours, intensity or other values; the "
+                                                   "normals are columns 4-6)"});
 }
 
 // Scanner point exports beside "x y z [nx ny nz]": Leica PTS (a count line, then "x y z
@@ -237,17 +250,27 @@ TEST(read_scan, pts_exports_and_comma_separated_points_are_read) {
   const auto pts = read("leica.pts", "4\n0 0 0 -1200\n100 0 0 17\n0 100 0 5\n0 0 100 -3\n");
   EXPECT_EQ(pts.cloud.points.size(), 4u);
   EXPECT_TRUE(pts.cloud.normals.empty());
-  EXPECT_EQ(pts.notes, std::vector<std::string>{"column 4 (intensity) left out"});
+  EXPECT_EQ(pts.notes, std::vector<std::string>{"column 4 left out (colours, intensity or other values; no three "
+                                                 "columns are unit normals, so the normals are estimated)"});
   const auto rgb = read("leica_rgb.pts", "4\n0 0 0 -1200 255 0 0\n100 0 0 17 0 0 0\n0 100 0 5 1 2 3\n0 0 100 -3 9 9 9\n");
   EXPECT_EQ(rgb.cloud.points.size(), 4u);
-  EXPECT_EQ(rgb.notes, std::vector<std::string>{"columns 4-7 (intensity, colours) left out"});
+  ASSERT_EQ(rgb.notes.size(), 1u);
+  EXPECT_EQ(rgb.notes[0].rfind("columns 4-7 left out (", 0), 0u) << rgb.notes[0];
   const auto commas = read("commas.xyz", "// X,Y,Z\n0,0,0\n100.5,0,0\n0,100,0\n0,0,100\n");
   ASSERT_EQ(commas.cloud.points.size(), 4u);
   EXPECT_EQ(commas.cloud.points[1].x(), 100.5);
-  // a decimal comma is not taken for a separator where the columns are spaced
-  const std::string decimal_comma = scratch_file("decimal_comma.xyz", "0 0 0\n100,5 0 0\n0 100 0\n");
-  EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(decimal_comma, mm); }),
-            decimal_comma + ": line 2: '100,5' is not a number");
+  // Exports CloudCompare, spreadsheets and European locales write (the sweep of 2026-12-07 found
+  // each refused): a header line of names, a byte order mark, "x, y, z", semicolons with decimal
+  // commas, spaced columns with decimal commas, and .csv / .asc names.
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"header.csv", "\xEF\xBB\xBFX,Y,Z\n0,0,0\n100.5,0,0\n0,100,0\n0,0,100\n"},
+           {"spaced.xyz", "x y z\n0, 0, 0\n100.5, 0, 0\n0, 100, 0\n0, 0, 100\n"},
+           {"semicolons.csv", "X;Y;Z\n0;0;0\n100,5;0;0\n0;100;0\n0;0;100\n"},
+           {"decimal_comma.asc", "0 0 0\n100,5 0 0\n0 100 0\n0 0 100\n"}}) {
+    const auto scan = read(name, text);
+    ASSERT_EQ(scan.cloud.points.size(), 4u) << name;
+    EXPECT_EQ(scan.cloud.points[1].x(), 100.5) << name;
+  }
   const std::string short_pts = scratch_file("short.pts", "5\n0 0 0 1\n100 0 0 1\n0 100 0 1\n0 0 100 1\n");
   EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(short_pts, mm); }),
             short_pts + ": its first line declares 5 points, the file holds 4 (truncated or edited?)");
