@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   scan2cad::ReconstructOptions opt;
   pipeline::Cli cli("reconstruct", "Reconstructs a triangle mesh from a scanned point cloud (CGAL).");
   cli.option("-i", "--in", &in, "input scan: .ply .stl .obj .off (points or mesh), or points as text: .xyz .pts .txt .csv .asc (x y z, then normals, colours, intensity...)", pipeline::required);
-  cli.option("-o", "--out", &out, "output triangle mesh (.ply .off .obj .stl)", pipeline::required);
+  cli.option("-o", "--out", &out, "output mesh (.ply .off .obj .stl): triangles from points; a mesh given is written as read, its polygons and seams kept (repair makes them one triangle mesh)", pipeline::required);
   kind_unit.add_to(cli, "head or respirator (sets defaults and unit guess)");
   cli.option("-m", "--method", &method_name, "auto, poisson, advancing_front or scale_space");
   cli.option("-n", "--neighbors", &opt.neighbors, "neighbours for spacing, outliers, normals", 6, 200);
