@@ -617,14 +617,29 @@ std::string obj_text_assimp_reads(const std::string& path) {
   return changed ? text : "";
 }
 
+// An ASCII STL written in upper case ("SOLID", "FACET NORMAL"), lower-cased for assimp, which
+// refused it ("text that does not start with \"solid\""); "" for any other file.
+std::string upper_case_stl_text(const std::string& path) {
+  std::string head = first_bytes(path, 5);
+  std::transform(head.begin(), head.end(), head.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+  if (head != "solid" || first_bytes(path, 5) == "solid") return "";
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char ch : text)
+    if (!std::isprint(static_cast<unsigned char>(ch)) && !std::isspace(static_cast<unsigned char>(ch))) return "";
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+  return text;
+}
+
 void read_with_assimp(const std::string& path, Scan& scan) {
   Assimp::Importer importer;
   // Keep the triangles as scanned: only join the duplicated corners STL stores per facet.
   // Facet normals would keep corners apart, so they are dropped before the join.
   const unsigned steps = aiProcess_DropNormals | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate;
-  const std::string obj_text = lower_extension(path) == ".obj" ? obj_text_assimp_reads(path) : "";
-  const aiScene* sc = obj_text.empty() ? importer.ReadFile(path, steps)
-                                       : importer.ReadFileFromMemory(obj_text.data(), obj_text.size(), steps, "obj");
+  const std::string ext = lower_extension(path);
+  const std::string text = ext == ".obj" ? obj_text_assimp_reads(path) : ext == ".stl" ? upper_case_stl_text(path) : "";
+  const aiScene* sc = text.empty() ? importer.ReadFile(path, steps)
+                                   : importer.ReadFileFromMemory(text.data(), text.size(), steps, ext.substr(1).c_str());
   if (!sc || !sc->mNumMeshes) {
     const std::string why = importer.GetErrorString();
     if (lower_extension(path) == ".stl") throw bad_input(path, why_stl_unreadable(path, why));

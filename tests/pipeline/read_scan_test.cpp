@@ -311,6 +311,18 @@ TEST(read_scan, obj_lines_indented_or_with_tabs_are_read) {
   EXPECT_EQ(points.cloud.normals.size(), 3u);
 }
 
+// An ASCII STL in upper case ("SOLID", "FACET NORMAL"; some CAD tools write it) was refused as
+// "text that does not start with \"solid\"".
+TEST(read_scan, an_upper_case_ascii_stl_is_read) {
+  const auto scan = pipeline::read_scan(
+      scratch_file("upper_case.stl", "SOLID PART\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 100 0 0\n"
+                                     "VERTEX 0 100 0\nENDLOOP\nENDFACET\nENDSOLID PART\n"),
+      {pipeline::Unit::mm});
+  EXPECT_TRUE(scan.is_mesh);
+  EXPECT_EQ(scan.soup.polygons.size(), 1u);
+  EXPECT_EQ(scan.soup.points.size(), 3u);
+}
+
 // An ending require_extension accepts in upper case is one the writers handle: a point cloud to
 // "X.PLY" failed after the work ("unknown point cloud format '.PLY'"), since the writer compared
 // the ending as written. Both formats round trip under an upper-case ending.
