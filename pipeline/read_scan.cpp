@@ -365,7 +365,8 @@ std::vector<double> point_line_numbers(std::string line, std::vector<std::string
 // parse; a scan with a garbled line is more likely a wrong file, so its line is named.
 PointCloud read_xyz(const std::string& path, std::vector<std::string>* notes) {
   std::ifstream in(path);
-  std::vector<std::vector<double>> rows;
+  std::vector<double> values;  // the rows, `columns` numbers each
+  std::size_t columns = 0, rows = 0;
   std::string line;
   std::size_t line_no = 0, columns_line = 0;
   double declared = -1;  // a PTS file's count line
@@ -377,43 +378,47 @@ PointCloud read_xyz(const std::string& path, std::vector<std::string>* notes) {
     if (start == std::string::npos || line[start] == '#' || line.compare(start, 2, "//") == 0) continue;
     std::vector<std::string> words;
     std::vector<double> v = point_line_numbers(line, &words);
-    if (rows.empty() && declared < 0 && !header_seen && v.empty()) {
+    if (rows == 0 && declared < 0 && !header_seen && v.empty()) {
       header_seen = true;  // "X Y Z R G B": names of the columns
       continue;
     }
     if (!words.empty())
       throw bad_input(path, "line " + std::to_string(line_no) + ": '" + words[0] + "' is not a number");
-    if (rows.empty() && declared < 0 && v.size() == 1 && v[0] >= 0 && v[0] == std::floor(v[0])) {
+    if (rows == 0 && declared < 0 && v.size() == 1 && v[0] >= 0 && v[0] == std::floor(v[0])) {
       declared = v[0];  // PTS: the number of points
       continue;
     }
     if (v.size() < 3)
       throw bad_input(path, "line " + std::to_string(line_no) + ": " + std::to_string(v.size()) +
                                 " numbers, expected x y z and any further columns");
-    if (rows.empty()) columns_line = line_no;
-    if (!rows.empty() && v.size() != rows[0].size())
+    if (rows == 0) columns = v.size(), columns_line = line_no;
+    if (v.size() != columns)
       throw bad_input(path, "line " + std::to_string(line_no) + " holds " + std::to_string(v.size()) +
-                                " numbers, line " + std::to_string(columns_line) + " held " +
-                                std::to_string(rows[0].size()) + ": one kind of line a file");
-    rows.push_back(std::move(v));
+                                " numbers, line " + std::to_string(columns_line) + " held " + std::to_string(columns) +
+                                ": one kind of line a file");
+    values.insert(values.end(), v.begin(), v.end());
+    ++rows;
   }
-  if (declared >= 0 && double(rows.size()) != declared)
+  if (declared >= 0 && double(rows) != declared)
     throw bad_input(path, "its first line declares " + format_number(declared) + " points, the file holds " +
-                              std::to_string(rows.size()) + " (truncated or edited?)");
+                              std::to_string(rows) + " (truncated or edited?)");
   PointCloud c;
-  for (const auto& r : rows) c.points.emplace_back(r[0], r[1], r[2]);
-  const std::size_t columns = rows.empty() ? 3 : rows[0].size();
+  const auto row = [&](std::size_t i) { return &values[i * columns]; };
+  for (std::size_t i = 0; i < rows; ++i) c.points.emplace_back(row(i)[0], row(i)[1], row(i)[2]);
   // The normals: the first three consecutive columns after x y z that are unit vectors on every
   // row (|n| within 0.05 of 1). Colours (255 0 0, or 0-1 floats) and intensities are not, and
   // colours read as normals had steered the orientation and Poisson.
   std::size_t normals_at = 0;
   for (std::size_t k = 3; k + 3 <= columns && normals_at == 0; ++k) {
     bool unit = true;
-    for (const auto& r : rows) unit = unit && std::fabs(std::sqrt(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]) - 1) < 0.05;
+    for (std::size_t i = 0; i < rows && unit; ++i) {
+      const double* r = row(i);
+      unit = std::fabs(std::sqrt(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]) - 1) < 0.05;
+    }
     if (unit) normals_at = k;
   }
   if (normals_at > 0)
-    for (const auto& r : rows) c.normals.emplace_back(r[normals_at], r[normals_at + 1], r[normals_at + 2]);
+    for (std::size_t i = 0; i < rows; ++i) c.normals.emplace_back(row(i)[normals_at], row(i)[normals_at + 1], row(i)[normals_at + 2]);
   // The columns left out, counted from 1 as a spreadsheet shows them: "column 7", "columns 4-7".
   std::vector<std::pair<std::size_t, std::size_t>> left;  // ranges, 1-based
   for (std::size_t k = 3; k < columns; ++k) {
