@@ -279,9 +279,6 @@ std::string with_32_bit_face_indices(const std::string& path, const PlyHeader& h
   return out + body.substr(at);
 }
 
-// Why CGAL refused a PLY: why_text_unreadable's reasons.
-std::string why_ply_unreadable(const std::string& path) { return why_text_unreadable(path, "PLY", "end_header"); }
-
 // A PLY as CGAL's reader takes it: the file itself, or, when its face indices are of 8 or 16
 // bits, the file with them made 32-bit (with_32_bit_face_indices). Each open() reads it anew.
 class PlyForCgal {
@@ -289,8 +286,10 @@ class PlyForCgal {
   PlyForCgal(const std::string& path, const PlyHeader& h) : path_(path) {
     if (!h.complete) return;  // left to CGAL's reader, which names the file unreadable
     for (const PlyElement& e : h.elements)
-      for (const PlyProperty& p : e.properties)
-        if (is_small_face_index_list(p)) widened_ = with_32_bit_face_indices(path, h);
+      if (std::any_of(e.properties.begin(), e.properties.end(), is_small_face_index_list)) {
+        widened_ = with_32_bit_face_indices(path, h);
+        return;
+      }
   }
   std::unique_ptr<std::istream> open() const {
     if (widened_.empty()) return std::make_unique<std::ifstream>(path_, std::ios::binary);
@@ -484,7 +483,7 @@ void read_ply_soup(const std::string& path, const PlyForCgal& ply, std::vector<P
                    std::vector<std::vector<std::size_t>>& polygons) {
   const auto in = ply.open();
   if (!read_ply_guarded(path, [&] { return CGAL::IO::read_PLY(*in, points, polygons); }))
-    throw bad_input(path, why_ply_unreadable(path));
+    throw bad_input(path, why_text_unreadable(path, "PLY", "end_header"));
   require_nothing_after_elements(*in, path);
 }
 
@@ -566,7 +565,6 @@ void read_off(const std::string& path, Scan& scan) {
   }
 }
 
-// OBJ files with vertices only are point clouds, which assimp does not import.
 // The keyword of an OBJ line ("v", "vn", "f", ...), after any leading white space: a face line
 // indented or written "f\t1\t2\t3" was not seen, and the mesh was read as a cloud of its vertices.
 std::string obj_keyword(const std::string& line) {
@@ -576,6 +574,7 @@ std::string obj_keyword(const std::string& line) {
   return keyword;
 }
 
+// OBJ files with vertices only are point clouds, which assimp does not import.
 bool obj_has_faces(const std::string& path) {
   std::ifstream in(path);
   std::string line;
@@ -625,9 +624,10 @@ std::string obj_text_assimp_reads(const std::string& path) {
 // An ASCII STL written in upper case ("SOLID", "FACET NORMAL"), lower-cased for assimp, which
 // refused it ("text that does not start with \"solid\""); "" for any other file.
 std::string upper_case_stl_text(const std::string& path) {
-  std::string head = first_bytes(path, 5);
-  std::transform(head.begin(), head.end(), head.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
-  if (head != "solid" || first_bytes(path, 5) == "solid") return "";
+  const std::string head = first_bytes(path, 5);
+  std::string lower = head;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+  if (lower != "solid" || head == "solid") return "";
   std::ifstream in(path, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const char ch : text)
@@ -647,7 +647,7 @@ void read_with_assimp(const std::string& path, Scan& scan) {
                                    : importer.ReadFileFromMemory(text.data(), text.size(), steps, ext.substr(1).c_str());
   if (!sc || !sc->mNumMeshes) {
     const std::string why = importer.GetErrorString();
-    if (lower_extension(path) == ".stl") throw bad_input(path, why_stl_unreadable(path, why));
+    if (ext == ".stl") throw bad_input(path, why_stl_unreadable(path, why));
     throw bad_input(path, "not a readable mesh" + (why.empty() ? std::string() : ": " + why));
   }
   scan.is_mesh = true;
@@ -695,9 +695,10 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
   // point (a scanner's marker at the origin) made a head look metres wide.
   if (scan.is_mesh) PMP::remove_isolated_points_in_polygon_soup(scan.soup.points, scan.soup.polygons);
 
-  scan.unit =
-      opt.unit == Unit::automatic ? detect_unit(extent_without_far_points(pts), opt.expected_size_mm, path) : opt.unit;
+  const double extent = extent_without_far_points(pts);  // in the file's unit
+  scan.unit = opt.unit == Unit::automatic ? detect_unit(extent, opt.expected_size_mm, path) : opt.unit;
   scale_points(pts, mm_per_unit(scan.unit));
+  scan.extent_mm = extent * mm_per_unit(scan.unit);
   return scan;
 }
 

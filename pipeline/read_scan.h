@@ -24,6 +24,9 @@ struct Scan {
   PolygonSoup soup;    ///< filled when is_mesh
   PointCloud cloud;    ///< filled otherwise
   Unit unit = Unit::mm;  ///< unit the file was in (detected or forced)
+  /// largest extent without a few far points [mm] (extent_without_far_points): the size the unit
+  /// was judged by, which the stages log and check a forced unit against
+  double extent_mm = 0;
   /// What the reader left out of the file, for the stage's log ("columns 4-6 are colours ...")
   std::vector<std::string> notes;
 };

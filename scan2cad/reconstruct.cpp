@@ -491,20 +491,12 @@ pipeline::ScanReadOptions KindAndUnitOptions::read_options() const {
   read.expected_size_mm = expected_size_mm(kind());
   return read;
 }
-namespace {
-// The points of a scan, its faces' vertices or its cloud.
-const std::vector<pipeline::Point>& scan_points(const pipeline::Scan& scan) {
-  return scan.is_mesh ? scan.soup.points : scan.cloud.points;
-}
-// The largest extent of what a scan holds [mm], without a few far points (as unit detection).
-double scan_extent_mm(const pipeline::Scan& scan) { return pipeline::extent_without_far_points(scan_points(scan)); }
-}  // namespace
 
 std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const {
-  const double extent_mm = scan_extent_mm(scan), box_mm = pipeline::largest_extent(scan_points(scan));
+  const double box_mm = pipeline::largest_extent(scan.is_mesh ? scan.soup.points : scan.cloud.points);
   std::string text = pipeline::describe_unit(scan.unit, pipeline::parse_unit(unit_name) == pipeline::Unit::automatic,
-                                             extent_mm, kind_name, expected_size_mm(kind()));
-  if (box_mm > extent_mm)
+                                             scan.extent_mm, kind_name, expected_size_mm(kind()));
+  if (box_mm > scan.extent_mm)
     text += "; a few far points stretch the box to " + pipeline::format_number(box_mm) +
             " mm: outliers or debris, removed with them";
   for (const std::string& note : scan.notes) text += "; " + note;
@@ -513,7 +505,7 @@ std::string KindAndUnitOptions::describe_unit(const pipeline::Scan& scan) const 
 
 void KindAndUnitOptions::require_plausible_size(const pipeline::Scan& scan, const std::string& path) const {
   if (pipeline::parse_unit(unit_name) != pipeline::Unit::automatic)
-    pipeline::require_forced_unit_plausible(path, scan.unit, scan_extent_mm(scan), kind_name, expected_size_mm(kind()));
+    pipeline::require_forced_unit_plausible(path, scan.unit, scan.extent_mm, kind_name, expected_size_mm(kind()));
 }
 
 ReconstructMethod parse_reconstruct_method(const std::string& name, ScanKind kind) {

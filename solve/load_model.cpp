@@ -191,9 +191,8 @@ void check_deck_model(const Deck& d, const json& o, const Model& m, const std::s
   const double nodes = num(d, o, "nodes", "model_check", 0, true);
   if (!o.contains("bounds_mm") || !o["bounds_mm"].is_array() || o["bounds_mm"].size() != 2)
     throw d.bad("model_check.bounds_mm: expected [[x, y, z], [x, y, z]] (lowest, highest) [mm]");
-  const std::array<double, 6> made_for = {
-      o["bounds_mm"][0].at(0).get<double>(), o["bounds_mm"][0].at(1).get<double>(), o["bounds_mm"][0].at(2).get<double>(),
-      o["bounds_mm"][1].at(0).get<double>(), o["bounds_mm"][1].at(1).get<double>(), o["bounds_mm"][1].at(2).get<double>()};
+  std::array<double, 6> made_for;  // lowest x, y, z, then highest, as model_bounds_mm
+  for (std::size_t k = 0; k < 6; ++k) made_for[k] = o["bounds_mm"][k / 3].at(k % 3).get<double>();
   const std::array<double, 6> here = model_bounds_mm(m);
   constexpr double tolerance_mm = 1e-3;  // assemble writes the coordinates to 16 digits
   bool same = double(m.n_nodes()) == nodes;

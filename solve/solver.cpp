@@ -84,7 +84,8 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
       s.added += me * (f - 1);
       s.physical += me;
       for (int a = 0; a < b.nn; ++a) s.mass[b.conn[e * b.nn + a]] += me * f / b.nn;
-      if (edt[e] * std::sqrt(f) < dt_min) dt_min = edt[e] * std::sqrt(f), s.step_part = part.name;
+      const double dt_e = edt[e] * std::sqrt(f);
+      if (dt_e < dt_min) dt_min = dt_e, s.step_part = part.name;
     }
     s.blocks.push_back(std::move(b));
     s.mass_factor.push_back(std::move(factor));

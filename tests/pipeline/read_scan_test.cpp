@@ -290,6 +290,7 @@ TEST(read_scan, a_stray_point_far_off_does_not_decide_the_unit) {
   const auto scan = pipeline::read_scan(scratch_file("stray_m.xyz", text));
   EXPECT_EQ(scan.unit, pipeline::Unit::m);
   EXPECT_EQ(scan.cloud.points.size(), 442u);
+  EXPECT_NEAR(scan.extent_mm, 286, 1e-9);  // the size the unit was judged by, in mm; the box is 1200 mm
 }
 
 // OBJ lines indented or with tabs are valid OBJ: a face line written "f\t1\t3\t2" or indented was
