@@ -487,8 +487,24 @@ void read_ply_soup(const std::string& path, const PlyForCgal& ply, std::vector<P
   require_nothing_after_elements(*in, path);
 }
 
+// The names of the normal's three properties of a PLY's vertices: "nx ny nz" (CGAL, MeshLab,
+// CloudCompare) or "normal_x normal_y normal_z" (PCL), which CGAL's point reader does not look
+// for (such normals were ignored and estimated again). Empty when the vertices have neither.
+std::array<std::string, 3> ply_normal_names(const PlyHeader& header) {
+  for (const auto& e : header.elements) {
+    if (e.name != "vertex") continue;
+    const auto has = [&](const char* name) {
+      return std::any_of(e.properties.begin(), e.properties.end(), [&](const PlyProperty& p) { return p.name == name; });
+    };
+    if (has("nx") && has("ny") && has("nz")) return {"nx", "ny", "nz"};
+    if (has("normal_x") && has("normal_y") && has("normal_z")) return {"normal_x", "normal_y", "normal_z"};
+  }
+  return {};
+}
+
 void read_ply(const std::string& path, Scan& scan) {
-  const PlyForCgal ply(path, read_checked_ply_header(path));
+  const PlyHeader header = read_checked_ply_header(path);
+  const PlyForCgal ply(path, header);
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
   read_ply_soup(path, ply, pts, polys);
@@ -498,14 +514,21 @@ void read_ply(const std::string& path, Scan& scan) {
     scan.soup.polygons = std::move(polys);
     return;
   }
-  // A point set: read again with normals (absent normals come back as zero vectors).
+  // A point set: the soup read gave its points; read again for the normals, if it has any.
+  const auto normal = ply_normal_names(header);
+  if (normal[0].empty()) {
+    scan.cloud.points = std::move(pts);
+    return;
+  }
   using PN = std::pair<Point, Vector>;
   std::vector<PN> pn;
   const auto in2 = ply.open();
+  using Property = CGAL::IO::PLY_property<double>;
   if (!read_ply_guarded(path, [&] {
-        return CGAL::IO::read_PLY(*in2, std::back_inserter(pn),
-                                  CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
-                                      .normal_map(CGAL::Second_of_pair_property_map<PN>()));
+        return CGAL::IO::read_PLY_with_properties(
+            *in2, std::back_inserter(pn), CGAL::IO::make_ply_point_reader(CGAL::First_of_pair_property_map<PN>()),
+            std::make_tuple(CGAL::Second_of_pair_property_map<PN>(), Kernel::Construct_vector_3(),
+                            Property(normal[0].c_str()), Property(normal[1].c_str()), Property(normal[2].c_str())));
       }))
     throw bad_input(path, why_text_unreadable(path, "PLY point set", "end_header"));
   bool has_normals = false;
@@ -545,6 +568,31 @@ void check_off_counts(const std::string& path) {
                               " bytes can hold: truncated or damaged");
 }
 
+// The first word of an OFF file that is not a comment: its keyword ("OFF", "NOFF", "COFF", ...).
+std::string off_keyword(const std::string& path) {
+  std::ifstream in(path);
+  std::string word;
+  while (in >> word && word[0] == '#') std::getline(in, word);
+  return word;
+}
+
+// The normals of an NOFF point set ("x y z nx ny nz" on each vertex line), which the soup reader
+// skips: they were estimated again. CGAL's point-set OFF reader takes them, but only from a file
+// laid out one vertex a line; when it cannot, the points stay without normals and a note says so.
+void read_noff_normals(const std::string& path, Scan& scan) {
+  using PN = std::pair<Point, Vector>;
+  std::vector<PN> pn;
+  std::ifstream in(path);
+  const bool read = CGAL::IO::read_OFF(in, std::back_inserter(pn),
+                                       CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
+                                           .normal_map(CGAL::Second_of_pair_property_map<PN>()));
+  if (!read || pn.size() != scan.cloud.points.size()) {
+    scan.notes.push_back("its NOFF normals were not read (not one vertex a line), so they are estimated");
+    return;
+  }
+  for (const auto& p : pn) scan.cloud.normals.push_back(p.second);
+}
+
 void read_off(const std::string& path, Scan& scan) {
   const std::string head = first_bytes(path, 4);
   if (head.find("OFF") == std::string::npos) throw bad_input(path, "not an OFF file (no 'OFF' header)");
@@ -558,6 +606,7 @@ void read_off(const std::string& path, Scan& scan) {
   require_nothing_after_elements(in, path);
   if (polys.empty()) {
     scan.cloud.points = std::move(pts);
+    if (off_keyword(path) == "NOFF") read_noff_normals(path, scan);
   } else {
     scan.is_mesh = true;
     scan.soup.points = std::move(pts);

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <set>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -484,4 +485,57 @@ TEST(read_scan, a_nan_normal_is_bad_input_naming_the_point) {
   pipeline::write_point_cloud(ply, c);
   EXPECT_EQ(bad_input_message([&] { pipeline::read_scan(ply); }, ply),
             "point 17 has a non-finite (NaN or infinite) normal");
+}
+
+// Point normals as other tools name them: PCL writes a PLY's normals as "normal_x normal_y
+// normal_z" (often as float, with a curvature after them), and Geomview's NOFF gives them after
+// each vertex. CGAL's readers took neither, so the normals were estimated again.
+TEST(read_scan, pcl_ply_normals_and_noff_normals_are_read) {
+  pipeline::ScanReadOptions mm;
+  mm.unit = pipeline::Unit::mm;
+  const std::array<std::array<float, 6>, 4> rows{{{0, 0, 0, 0, 0, 1},
+                                                  {100, 0, 0, 1, 0, 0},
+                                                  {0, 100, 0, 0, -1, 0},
+                                                  {0, 0, 100, 0.6f, 0.8f, 0}}};
+  const auto expect_normals = [&](const pipeline::Scan& scan, const std::string& name) {
+    ASSERT_EQ(scan.cloud.points.size(), 4u) << name;
+    ASSERT_EQ(scan.cloud.normals.size(), 4u) << name;
+    for (std::size_t i = 0; i < 4; ++i)
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(scan.cloud.points[i][k], rows[i][std::size_t(k)]) << name << " point " << i;
+        EXPECT_NEAR(scan.cloud.normals[i][k], rows[i][std::size_t(k) + 3], 1e-7) << name << " normal " << i;
+      }
+    EXPECT_TRUE(scan.notes.empty()) << name;
+  };
+  const std::string header_start = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
+  for (const std::string names : {"nx ny nz", "normal_x normal_y normal_z"}) {
+    std::istringstream words(names);
+    std::string header = header_start, name;
+    while (words >> name) header += "property float " + name + "\n";
+    header += "property float curvature\nend_header\n";
+    std::string text = header;
+    for (const auto& r : rows) {
+      for (float v : r) text += pipeline::format_number(v) + " ";
+      text += "0.01\n";
+    }
+    expect_normals(pipeline::read_scan(scratch_file("ascii_" + names.substr(0, 2) + ".ply", text), mm), names);
+    std::string binary = header;
+    binary.replace(binary.find("ascii"), 5, "binary_little_endian");
+    for (const auto& r : rows) {
+      for (float v : r) binary.append(reinterpret_cast<const char*>(&v), sizeof v);
+      const float curvature = 0.01f;
+      binary.append(reinterpret_cast<const char*>(&curvature), sizeof curvature);
+    }
+    expect_normals(pipeline::read_scan(scratch_file("binary_" + names.substr(0, 2) + ".ply", binary), mm), names + " binary");
+  }
+  std::string noff = "NOFF\n# points with normals\n4 0 0\n";
+  for (const auto& r : rows) {
+    for (float v : r) noff += pipeline::format_number(v) + " ";
+    noff += "\n";
+  }
+  expect_normals(pipeline::read_scan(scratch_file("points.off", noff), mm), "NOFF");
+  // a plain OFF point set has none
+  const auto off = pipeline::read_scan(scratch_file("plain.off", "OFF\n4 0 0\n0 0 0\n100 0 0\n0 100 0\n0 0 100\n"), mm);
+  EXPECT_EQ(off.cloud.points.size(), 4u);
+  EXPECT_TRUE(off.cloud.normals.empty());
 }
