@@ -623,19 +623,10 @@ std::string obj_keyword(const std::string& line) {
   return keyword;
 }
 
-// OBJ files with vertices only are point clouds, which assimp does not import.
-bool obj_has_faces(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line))
-    if (obj_keyword(line) == "f") return true;
-  return false;
-}
-
-// The vertices of an OBJ without faces, with their normals when the file gives one "vn" a "v" (as
-// point-cloud exporters write them, in the same order).
-PointCloud read_obj_points(const std::string& path) {
-  std::ifstream in(path);
+// The vertices of an OBJ without faces (`text`, the file at `path`), with their normals when the
+// file gives one "vn" a "v" (as point-cloud exporters write them, in the same order).
+PointCloud read_obj_points(const std::string& path, const std::string& text) {
+  std::istringstream in(text);
   PointCloud c;
   std::string line;
   while (std::getline(in, line)) {
@@ -653,21 +644,36 @@ PointCloud read_obj_points(const std::string& path) {
   return c;
 }
 
-// An OBJ's text with each line's leading white space removed and tabs made spaces, or "" when it
-// has neither. assimp's OBJ parser skipped an indented face line or one written "f\t1\t2\t3" (a
-// mesh read with 2 of its 4 faces), and refused indented vertex lines ("vertex index out of range").
-std::string obj_text_assimp_reads(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string text, line;
-  bool changed = false;
-  while (std::getline(in, line)) {
+// What an OBJ's text says about how to read it: whether it has faces (OBJ files with vertices
+// only are point clouds, which assimp does not import), and whether any line is indented or holds
+// a tab, which assimp's OBJ parser mishandles: it skipped an indented face line or one written
+// "f\t1\t2\t3" (a mesh read with 2 of its 4 faces), and refused indented vertex lines ("vertex
+// index out of range").
+struct ObjLayout {
+  bool has_faces = false, indented_or_tabbed = false;
+};
+ObjLayout obj_layout(const std::string& text) {
+  ObjLayout layout;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    layout.has_faces = layout.has_faces || obj_keyword(line) == "f";
     const std::size_t start = line.find_first_not_of(" \t");
-    changed = changed || (start != 0 && start != std::string::npos) || line.find('\t') != std::string::npos;
-    line.erase(0, std::min(start, line.size()));
-    std::replace(line.begin(), line.end(), '\t', ' ');
-    text += line + "\n";
+    layout.indented_or_tabbed = layout.indented_or_tabbed || (start != 0 && start != std::string::npos) ||
+                                line.find('\t') != std::string::npos;
   }
-  return changed ? text : "";
+  return layout;
+}
+
+// An OBJ's text with each line's leading white space removed and tabs made spaces, for assimp.
+std::string obj_text_assimp_reads(const std::string& text) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    line.erase(0, std::min(line.find_first_not_of(" \t"), line.size()));
+    std::replace(line.begin(), line.end(), '\t', ' ');
+    out += line + "\n";
+  }
+  return out;
 }
 
 // An ASCII STL written in upper case ("SOLID", "FACET NORMAL"), lower-cased for assimp, which
@@ -685,13 +691,14 @@ std::string upper_case_stl_text(const std::string& path) {
   return text;
 }
 
-void read_with_assimp(const std::string& path, Scan& scan) {
+// The mesh at `path` (STL or OBJ) read by assimp, from the file or, when `text` is not empty, from
+// that text: the file's own, rewritten where assimp would misread it.
+void read_with_assimp(const std::string& path, Scan& scan, const std::string& text) {
   Assimp::Importer importer;
   // Keep the triangles as scanned: only join the duplicated corners STL stores per facet.
   // Facet normals would keep corners apart, so they are dropped before the join.
   const unsigned steps = aiProcess_DropNormals | aiProcess_JoinIdenticalVertices | aiProcess_Triangulate;
   const std::string ext = lower_extension(path);
-  const std::string text = ext == ".obj" ? obj_text_assimp_reads(path) : ext == ".stl" ? upper_case_stl_text(path) : "";
   const aiScene* sc = text.empty() ? importer.ReadFile(path, steps)
                                    : importer.ReadFileFromMemory(text.data(), text.size(), steps, ext.substr(1).c_str());
   if (!sc || !sc->mNumMeshes) {
@@ -716,6 +723,17 @@ void read_with_assimp(const std::string& path, Scan& scan) {
   if (scan.soup.polygons.empty()) throw bad_input(path, "mesh has no faces");
 }
 
+// An OBJ, read into memory once: a point cloud when it has no faces, else a mesh through assimp.
+void read_obj(const std::string& path, Scan& scan) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const ObjLayout layout = obj_layout(text);
+  if (!layout.has_faces)
+    scan.cloud = read_obj_points(path, text);
+  else
+    read_with_assimp(path, scan, layout.indented_or_tabbed ? obj_text_assimp_reads(text) : "");
+}
+
 void scale_points(std::vector<Point>& pts, double s) {
   if (s == 1.0) return;
   for (auto& p : pts) p = Point(p.x() * s, p.y() * s, p.z() * s);
@@ -731,8 +749,8 @@ Scan read_scan(const std::string& path, const ScanReadOptions& opt) {
     scan.cloud = read_xyz(path, &scan.notes);
   else if (ext == ".ply") read_ply(path, scan);
   else if (ext == ".off") read_off(path, scan);
-  else if (ext == ".obj" && !obj_has_faces(path)) scan.cloud = read_obj_points(path);
-  else if (ext == ".stl" || ext == ".obj") read_with_assimp(path, scan);
+  else if (ext == ".obj") read_obj(path, scan);
+  else if (ext == ".stl") read_with_assimp(path, scan, upper_case_stl_text(path));
   else throw bad_input(path, "unknown scan format '" + ext + "', expected .ply .stl .obj .off, or points as text: .xyz .pts .txt .csv .asc");
 
   auto& pts = scan.is_mesh ? scan.soup.points : scan.cloud.points;
