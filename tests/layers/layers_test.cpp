@@ -453,3 +453,28 @@ TEST(require_one_oriented_sheet, names_a_flipped_or_fin_edge_and_loose_pieces) {
   m.blocks.push_back(layering::Block{"back_of_head", 2, 3, {5, 6, 7}});  // every triangle group counts
   EXPECT_EQ(message(), "its triangles are in 2 separate pieces, expected one surface");
 }
+
+// A sheet folded back on itself (as the real Flex face seal's lip rolls inward, 137-158° between
+// neighbouring triangles) leaves no column direction at the fold that gives wedges of either side
+// a scaled Jacobian of 0.2; the fix loop's error named only a bad wedge, now also the fold.
+TEST(build_layers, a_fold_too_sharp_for_wedges_is_named_in_the_error) {
+  layering::FeModel surface;
+  layering::Block inner{"respirator_inner", 2, 3, {}};
+  const double fold = 165 * M_PI / 180;  // the angle between the two flaps' normals
+  for (int j = 0; j <= 4; ++j)
+    for (int i = -3; i <= 3; ++i) {
+      const double u = 4.0 * i;
+      surface.nodes.push_back(i <= 0 ? Eigen::Vector3d(u, 4.0 * j, 0) : Eigen::Vector3d(u * std::cos(fold), 4.0 * j, u * std::sin(fold)));
+    }
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 6; ++i) {
+      const int a = 7 * j + i, b = a + 1, c = a + 7, d = a + 8;
+      inner.conn.insert(inner.conn.end(), {a, b, d, a, d, c});
+    }
+  surface.blocks = {inner};
+  const std::string message = error_message(pipeline::ErrorKind::algorithm, [&] {
+    layering::build_layers(surface, layering::read_stacks(kMaterials, "respirator"), {}, nullptr);
+  });
+  EXPECT_NE(message.find("wedges still inverted, distorted or intersecting after 60 thinning passes"), std::string::npos) << message;
+  EXPECT_NE(message.find("; the skin's sharpest fold there is 165 deg at (0.0, "), std::string::npos) << message;
+}
