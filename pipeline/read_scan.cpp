@@ -23,6 +23,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <new>
@@ -583,9 +584,20 @@ void read_noff_normals(const std::string& path, Scan& scan) {
   using PN = std::pair<Point, Vector>;
   std::vector<PN> pn;
   std::ifstream in(path);
-  const bool read = CGAL::IO::read_OFF(in, std::back_inserter(pn),
-                                       CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
-                                           .normal_map(CGAL::Second_of_pair_property_map<PN>()));
+  // CGAL writes why it stops to std::cerr ("Error line 2 of file (incorrect header format)"):
+  // kept quiet, the note below says it
+  struct QuietCerr {
+    std::ostringstream sink;
+    std::streambuf* const kept = std::cerr.rdbuf(sink.rdbuf());
+    ~QuietCerr() { std::cerr.rdbuf(kept); }
+  };
+  bool read = false;
+  {
+    const QuietCerr quiet;
+    read = CGAL::IO::read_OFF(in, std::back_inserter(pn),
+                              CGAL::parameters::point_map(CGAL::First_of_pair_property_map<PN>())
+                                  .normal_map(CGAL::Second_of_pair_property_map<PN>()));
+  }
   if (!read || pn.size() != scan.cloud.points.size()) {
     scan.notes.push_back("its NOFF normals were not read (not one vertex a line), so they are estimated");
     return;

@@ -534,6 +534,14 @@ TEST(read_scan, pcl_ply_normals_and_noff_normals_are_read) {
     noff += "\n";
   }
   expect_normals(pipeline::read_scan(scratch_file("points.off", noff), mm), "NOFF");
+  // CGAL's point reader takes only a header line of its own; with the counts on it the points are
+  // kept and the normals estimated, said in a note (CGAL's own complaint on std::cerr kept quiet)
+  std::string one_line = noff;
+  one_line.replace(0, one_line.find("4 0 0"), "NOFF ");
+  const auto points_only = pipeline::read_scan(scratch_file("one_line.off", one_line), mm);
+  EXPECT_EQ(points_only.cloud.points.size(), 4u);
+  EXPECT_TRUE(points_only.cloud.normals.empty());
+  EXPECT_EQ(points_only.notes, std::vector<std::string>{"its NOFF normals were not read (not one vertex a line), so they are estimated"});
   // a plain OFF point set has none
   const auto off = pipeline::read_scan(scratch_file("plain.off", "OFF\n4 0 0\n0 0 0\n100 0 0\n0 100 0\n0 0 100\n"), mm);
   EXPECT_EQ(off.cloud.points.size(), 4u);
