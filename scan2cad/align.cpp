@@ -209,8 +209,16 @@ AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt) {
 
 HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head) {
   if (head.number_of_faces() == 0) throw pipeline::bad_input("surface", "no faces");
-  const SurfaceSamples s = internal::sample_surface(head, axes_samples, axes_seed);
   HeadFrameError e;
+  try {
+    const Eigen::Matrix4d T = align(head, AlignOptions{}).transform;
+    e.realigned = true;
+    e.turn_deg = std::acos(std::clamp((T.block<3, 3>(0, 0).trace() - 1) / 2, -1.0, 1.0)) * 180.0 / M_PI;
+    e.shift_mm = T.block<3, 1>(0, 3).norm();
+  } catch (const pipeline::Error& err) {  // no symmetry plane or face: the tests below
+    if (err.kind != pipeline::ErrorKind::algorithm) throw;
+  }
+  const SurfaceSamples s = internal::sample_surface(head, axes_samples, axes_seed);
   // Mirror test: a plane other than x = 0 (a turned or shifted head) leaves mirrored samples
   // tens of mm off the surface; the median ignores asymmetric ears and scan holes.
   std::vector<Vector3d> mirrored;
@@ -238,9 +246,15 @@ HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head) {
 }
 
 void require_head_frame(const HeadFrameError& e) {
+  char why[200];
+  if (e.realigned) {
+    if (e.turn_deg <= head_frame_max_turn_deg && e.shift_mm <= head_frame_max_shift_mm) return;
+    std::snprintf(why, sizeof why, "align would turn it by %.1f deg and move it by %.1f mm", e.turn_deg, e.shift_mm);
+    throw pipeline::Error(pipeline::ErrorKind::bad_input,
+                          std::string("the head is not in the head frame (") + why + "): align it first (align --kind head)");
+  }
   const bool angles_ok = !e.face_found || (e.face_deg <= head_frame_max_angle_deg && e.up_deg <= head_frame_max_angle_deg);
   if (e.mirror_mm <= head_frame_max_mirror_mm && angles_ok) return;
-  char why[200];
   if (e.face_found)
     std::snprintf(why, sizeof why, "face direction %.0f deg from +z, up %.0f deg from +y, its mirror image in x = 0 %.1f mm off it",
                   e.face_deg, e.up_deg, e.mirror_mm);

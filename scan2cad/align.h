@@ -56,9 +56,16 @@ struct AlignResult {
 ///       the object size; ~0.3 s CPU for a 20k-face head, ~1.2 s for a 327k-face one.
 AlignResult align(const pipeline::SurfaceMesh& mesh, const AlignOptions& opt);
 
-/// How far a head that a stage takes as aligned is from the frame, measured as `align` measures
-/// it but with the symmetry plane taken as x = 0 (no search: 0.1-0.2 s on a 188k-face case head).
+/// How far a head that a stage takes as aligned is from the frame. First as `align` would move
+/// it: align is repeatable to 1e-4 deg and mm on its own output (the generated medium and both
+/// NIOSH heads), so any turn or shift it would still make is the head's distance from the frame
+/// (~1 s on a 200k-face head). Where align finds no frame (a cropped or unusual head, for which a
+/// user may give landmarks) by the symmetry plane taken as x = 0 and align's face search in it
+/// (0.1-0.2 s on a 188k-face case head).
 struct HeadFrameError {
+  bool realigned = false;   ///< align found a frame for the head
+  double turn_deg = 0;      ///< the rotation align would make [deg] (if realigned)
+  double shift_mm = 0;      ///< the translation align would make [mm] (if realigned)
   double mirror_mm = 0;     ///< median distance to the surface of 2,000 samples mirrored in x = 0 [mm]
   bool face_found = false;  ///< align's face search found a nose and a forehead-chin profile in x = 0
   double face_deg = 0;      ///< angle between the face direction found and +z [deg] (if face_found)
@@ -74,15 +81,20 @@ HeadFrameError head_frame_error(const pipeline::SurfaceMesh& head);
 /// guessed sellion, -10 deg 171.9 mm with no warning; the limit was 20 deg before).
 inline constexpr double head_frame_max_mirror_mm = 5.0;
 inline constexpr double head_frame_max_angle_deg = 8.0;
+/// Limits on align's own measure, which decides wherever align finds a frame: an aligned head
+/// turned 5 deg about y passed the mirror test (about 1.9 mm) and the generated medium head's
+/// landmarks came out up to 40 mm off (sellion 22 mm, with confidence 1); the repaired, unaligned
+/// NIOSH medium head (2.3 deg, 19 mm from the frame) went through every stage to a model.
+inline constexpr double head_frame_max_turn_deg = 1.0;
+inline constexpr double head_frame_max_shift_mm = 1.0;
 
 /// Refuses a head that is not in the frame, so that landmarks are not detected (or taken from a
 /// user's file) on a raw scan: upside down, detection found a "sellion" on the neck (with a
-/// warning) and landmarks exited 0. A turned, rolled or shifted head fails the mirror test; an
-/// upside-down, face-down or pitched one the angles. Where no face is found in x = 0 (a cropped
-/// or unusual head, for which a user may give landmarks) only the mirror test applies.
-/// @throws pipeline::Error(bad_input) "the head is not in the head frame (face direction 177 deg
-///         from +z, up 177 deg from +y, its mirror image in x = 0 0.0 mm off it): align it first
-///         (align --kind head)".
+/// warning) and landmarks exited 0. Where align finds a frame, align's turn and shift decide;
+/// elsewhere a turned, rolled or shifted head fails the mirror test, an upside-down, face-down or
+/// pitched one the angles, and where no face is found in x = 0 only the mirror test applies.
+/// @throws pipeline::Error(bad_input) "the head is not in the head frame (align would turn it by
+///         5.0 deg and move it by 0.0 mm): align it first (align --kind head)".
 void require_head_frame(const HeadFrameError& e);
 void require_head_frame(const pipeline::SurfaceMesh& head);
 

@@ -193,9 +193,13 @@ TEST(require_head_frame, refuses_a_head_turned_flipped_or_shifted_out_of_the_fra
   const Eigen::Vector3d X = Eigen::Vector3d::UnitX(), Y = Eigen::Vector3d::UnitY(), Z = Eigen::Vector3d::UnitZ(),
                         none = Eigen::Vector3d::Zero();
   const Pose poses[] = {{"aligned", X, 0, none, true},
-                        {"turned 10 deg about y", Y, 10, none, true},
-                        {"pitched 5 deg about x", X, 5, none, true},
-                        {"pitched -5 deg about x", X, -5, none, true},
+                        {"turned 0.5 deg about y", Y, 0.5, none, true},
+                        {"shifted 0.5 mm in y", X, 0, {0, 0.5, 0}, true},
+                        {"turned 5 deg about y", Y, 5, none, false},
+                        {"turned 10 deg about y", Y, 10, none, false},
+                        {"pitched 2 deg about x", X, 2, none, false},
+                        {"pitched -5 deg about x", X, -5, none, false},
+                        {"shifted 5 mm in z", X, 0, {0, 0, 5}, false},
                         {"pitched 10 deg about x", X, 10, none, false},
                         {"pitched -10 deg about x", X, -10, none, false},
                         {"upside down (180 deg about z)", Z, 180, none, false},
@@ -216,8 +220,12 @@ TEST(require_head_frame, refuses_a_head_turned_flipped_or_shifted_out_of_the_fra
       T.block<3, 1>(0, 3) = pose.shift_mm;
       scan2cad::apply_transform(posed, T);
       const auto e = scan2cad::head_frame_error(posed);
-      std::printf("%s %s: mirror %.2f mm, face %s %.1f deg, up %.1f deg\n", name, pose.what, e.mirror_mm,
-                  e.face_found ? "found" : "not found", e.face_deg, e.up_deg);
+      std::printf("%s %s: align's turn %.3f deg, shift %.3f mm; mirror %.2f mm, face %s %.1f deg, up %.1f deg\n", name,
+                  pose.what, e.turn_deg, e.shift_mm, e.mirror_mm, e.face_found ? "found" : "not found", e.face_deg, e.up_deg);
+      EXPECT_TRUE(e.realigned);
+      // align's measure is the pose itself, within the 1e-4 deg / mm align repeats itself to
+      const double turn_deg = std::fmod(std::abs(pose.angle_deg), 360.0);
+      EXPECT_NEAR(e.turn_deg, std::min(turn_deg, 360 - turn_deg), 0.01);
       if (pose.in_frame) {
         EXPECT_TRUE(e.face_found);  // (rolled 30 deg, medium has none in x = 0)
       }
@@ -225,8 +233,27 @@ TEST(require_head_frame, refuses_a_head_turned_flipped_or_shifted_out_of_the_fra
       if (pose.in_frame) {
         EXPECT_EQ(message, "no error");
       } else {
-        EXPECT_EQ(message.rfind("the head is not in the head frame (", 0), 0u) << message;
+        EXPECT_EQ(message.rfind("the head is not in the head frame (align would turn it by ", 0), 0u) << message;
       }
     }
   }
+}
+
+// Where align finds no frame (a cropped or unusual head), the mirror test and the face's angles
+// in x = 0 decide.
+TEST(require_head_frame, without_a_frame_from_align_the_mirror_and_the_face_decide) {
+  scan2cad::HeadFrameError e;
+  e.mirror_mm = 0.3;
+  const auto message = [&] { return bad_input_message([&] { scan2cad::require_head_frame(e); }); };
+  EXPECT_EQ(message(), "no error");
+  e.face_found = true, e.face_deg = 3, e.up_deg = 4;
+  EXPECT_EQ(message(), "no error");
+  e.up_deg = 9;
+  EXPECT_EQ(message(), "the head is not in the head frame (face direction 3 deg from +z, up 9 deg from +y, its mirror "
+                       "image in x = 0 0.3 mm off it): align it first (align --kind head)");
+  e.face_found = false, e.mirror_mm = 7;
+  EXPECT_EQ(message(), "the head is not in the head frame (no face found in the plane x = 0, its mirror image in x = 0 "
+                       "7.0 mm off it): align it first (align --kind head)");
+  e.realigned = true, e.turn_deg = 0.2, e.shift_mm = 0.1;  // align's measure decides where it exists
+  EXPECT_EQ(message(), "no error");
 }
