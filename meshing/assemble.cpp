@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "layering/internal/layers_columns.h"
@@ -287,6 +288,15 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
                                                      " face pairs intersect (" + groups + " ), gap " + pipeline::format_number(r.gap_mm) +
                                                      " mm, strap gap " + pipeline::format_number(r.strap_gap_mm) + " mm");
   return out;
+}
+
+void require_straps_clear_for_thickness(double strap_gap_mm, double strap_thickness_mm, const std::string& straps_path) {
+  if (strap_gap_mm >= strap_thickness_mm / 2) return;
+  throw pipeline::bad_input(straps_path, "the straps lie " + pipeline::format_number(std::round(strap_gap_mm * 100) / 100) +
+                                             " mm off the skin, under half the " + pipeline::format_number(strap_thickness_mm) +
+                                             " mm of --strap-thickness-mm: their shells would start inside the head (straps "
+                                             "laid for a thinner strap? give straps --thickness-mm " +
+                                             pipeline::format_number(strap_thickness_mm) + ")");
 }
 
 }  // namespace meshing

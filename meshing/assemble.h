@@ -87,6 +87,16 @@ layering::FeModel assemble_model(const layering::FeModel& head, const layering::
                                  const layering::FeModel& straps, const std::map<std::string, Eigen::Vector3d>& lm,
                                  const PlaceOptions& opt, AssembleReport* report);
 
+/// Refuses straps too near the skin for the shell thickness the decks give them: `straps` lays
+/// each band's mid-surface at least its --gap-mm (1 mm) + half its --thickness-mm off the skin,
+/// and assemble's --strap-thickness-mm must be the same, since the straps' .msh holds only the
+/// mid-surface. Straps laid for 1 mm, assembled with 5 mm, began ~1 mm inside the head with exit
+/// 0. The mid-surface must be at least half the thickness off the skin.
+/// @param strap_gap_mm  the least distance of a strap node from the skin (AssembleReport)
+/// @throws pipeline::Error(bad_input) naming `straps_path`: "the straps lie 1.55 mm off the skin,
+///         under half the 5 mm of --strap-thickness-mm: ..."
+void require_straps_clear_for_thickness(double strap_gap_mm, double strap_thickness_mm, const std::string& straps_path);
+
 /// The "materials" object of a solver deck from parsed data/materials.json: density, E, nu and
 /// rigid of each material whose name does not start with '_', checked as solve checks them
 /// (pipeline::why_material_unusable), so a unit slip stops at assemble, before any deck is written.

@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     // 2. Place and merge (checks the gap and that nothing intersects).
     meshing::AssembleReport rep;
     const auto model = meshing::assemble_model(h, r, s, lm, opt, &rep);
+    meshing::require_straps_clear_for_thickness(rep.strap_gap_mm, strap_t, straps);
     // 3. Write model and decks.
     const auto d1 = pipeline::naming_file(materials, [&] { return meshing::make_deck(model, mat, 1, strap_t, ""); });
     const auto d2 = pipeline::naming_file(materials, [&] { return meshing::make_deck(model, mat, 2, strap_t, state1); });

@@ -64,15 +64,19 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
   double tl = angle(a.left), tr = angle(a.right);
   if (tl > M_PI / 2) tl -= 2 * M_PI;
   if (tr < M_PI / 2) tr += 2 * M_PI;
-  // Outline of the head in the SLAB the band occupies (|distance to the strap plane| <= width/2 + 1
-  // mm), projected onto the plane: every skin triangle cut by the slab contributes the corners of
+  // Outline of the head in the SLAB the band occupies and the skin within `lift` of it (|distance to
+  // the strap plane| <= width/2 + lift), projected onto the plane: every skin triangle cut by the slab contributes the corners of
   // its part inside the slab (its vertices inside, its edges' crossings of the slab faces), so the
   // convex hull of these points contains the projection of all skin within the slab. A strap
   // planar section alone missed the skin beside the centre line behind the ears and the band's
   // edges cut it there. The hull is of the WHOLE slab (all around o), taken by CGAL: a scan over
   // only the angles between the attachments kept its first and last points even when they were
   // inner skin (cheek under the ear), and the band started inside the head (-1.7 mm, 320 mm strap).
-  const double half_slab = 0.5 * opt.width_mm + 1.0;
+  // Any skin within `lift` of a band node lies in this slab, so inside the hull, which the band's
+  // path clears by `lift` in the plane and so in space. The slab was width/2 + 1 mm: skin just
+  // beyond it (behind the ears) came to 1.45 mm of a band laid for 1 mm (lift 1.5) and to 2.32 mm
+  // of one laid for 5 mm (lift 3.5), whose shell then began inside the head.
+  const double half_slab = 0.5 * opt.width_mm + lift;
   std::vector<Point2> pts;
   for (const auto& tri : skin) {
     double h[3];

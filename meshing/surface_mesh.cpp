@@ -2,6 +2,7 @@
 
 #include <gmsh.h>
 
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/centroid.h>
 
 #include <algorithm>
@@ -35,11 +36,20 @@ double gamma(const std::size_t* tri) {
 
 }  // namespace
 
+double default_back_size_for(double size_mm) {
+  return std::max(size_mm, std::min(default_back_size_mm, back_size_ratio * size_mm));
+}
+
 std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, const std::string& kind,
                                           double size_mm, double back_size_mm, double min_gamma, int max_retries,
-                                          SurfaceMeshRetries* retries) {
+                                          SurfaceMeshRetries* retries, pipeline::Progress* progress, double max_triangles) {
   SurfaceMeshRetries tried;
+  const double area_mm2 = CGAL::Polygon_mesh_processing::area(fitted);
+  const auto triangles_at = [&](double edge_mm) { return area_mm2 / (std::sqrt(3.0) / 4.0 * edge_mm * edge_mm); };
   for (int attempt = 0;; ++attempt) {
+    if (progress)
+      progress->step("meshing at size " + pipeline::format_number(size_mm) + " mm" +
+                     (kind == "head" ? ", back " + pipeline::format_number(back_size_mm) + " mm" : std::string()));
     pipeline::SurfaceMesh mesh = scan2cad::remesh_parts(fitted, kind, size_mm, back_size_mm);
     // The remeshing leaves a few poor triangles where a cut turns or where the back pass collapsed
     // cut edges (gamma 0.25 on the unrepaired NIOSH medium); flips and angle smoothing lift them.
@@ -74,10 +84,19 @@ std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, c
       return out;
     }
     tried.failed.push_back(failure);
+    if (progress) progress->step(failure);
+    const std::string larger = attempt ? " (and at " + std::to_string(attempt) + " larger sizes)" : std::string();
     if (attempt == max_retries)
+      throw pipeline::Error(pipeline::ErrorKind::algorithm, failure + larger + ": try a smaller --size, or a lower --min-gamma");
+    // Each retry costs more than the last: no retry past the budget the options are held to.
+    const double next_triangles = triangles_at(std::min(size_mm, back_size_mm) * retry_size_factor);
+    if (next_triangles > max_triangles) {
+      char budget[160];
+      std::snprintf(budget, sizeof budget, ": the next size, %g mm, would make ~%.2g triangles, more than %g million",
+                    size_mm * retry_size_factor, next_triangles, max_triangles / 1e6);
       throw pipeline::Error(pipeline::ErrorKind::algorithm,
-                            failure + (attempt ? " (and at " + std::to_string(attempt) + " larger sizes)" : std::string()) +
-                                ": try a smaller --size, or a lower --min-gamma");
+                            failure + larger + budget + "; try a larger --size, or a lower --min-gamma");
+    }
     gmsh::model::remove();  // this attempt's model; the next one adds its own
     size_mm *= retry_size_factor;
     back_size_mm *= retry_size_factor;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/progress.h"
 #include "pipeline/surface_mesh.h"
 
 namespace meshing {
@@ -25,6 +26,17 @@ inline constexpr double default_size_mm = 6.4;
 /// default head; --size 0.5 on a head (~1.2 million) ran for minutes past 1 GB.
 inline constexpr double max_surface_mesh_triangles = 1e6;
 inline constexpr double default_back_size_mm = 7.0;
+
+/// back_of_head's size against the face parts': at the cut between them too large a ratio leaves
+/// no good triangle at any size. The generated medium head (sizes in mm, face / back): 2 / 7
+/// failed at all seven sizes (251 s, 808 MB), 1 / 7 and 2 / 6 ran past 300 s; 2 / 4, 2 / 5,
+/// 1.5 / 3.75, 1.5 / 4.5, 1 / 2.5 and 1 / 3 mesh in 5, 5, 10, 8, 30 and 25 s (2.5 / 7 after one
+/// retry). Without --back-size the back gets min(default_back_size_mm, back_size_ratio x size),
+/// never finer than the size; a --back-size over max_back_size_ratio times --size is refused.
+inline constexpr double back_size_ratio = 2.0;
+inline constexpr double max_back_size_ratio = 2.5;
+/// The back size used when none is given: min(7, 2 x size_mm), at least size_mm.
+double default_back_size_for(double size_mm);
 
 struct SurfaceMeshPart {
   std::string name;
@@ -47,18 +59,23 @@ struct SurfaceMeshRetries {
 /// constrained lines run closer than the size (the real Conforming cup's 1 mm rib: gamma 0.16 at
 /// 6.4 mm; the real Flex face seal's rim and a crease 4 mm from it), no triangle between them is
 /// good; the mesh is then made again with both sizes retry_size_factor (0.8) times theirs, up to
-/// `max_retries` times (the Conforming cup passes at 4.1 mm, the Flex seal at 2.6).
+/// `max_retries` times (the Conforming cup passes at 4.1 mm, the Flex seal at 2.6), but never to a
+/// size at which the whole surface would hold more than `max_triangles`.
 /// Each attempt takes well under a second on a respirator.
 /// @param[in] fitted       triangle mesh [mm] with int face property "f:part"
 /// @param[in] kind         "head" or "respirator" (one part, respirator_inner)
 /// @param[in] size_mm      target edge length on the face parts / the respirator [mm]
 /// @param[in] back_size_mm target edge length on back_of_head [mm] (head only)
 /// @param[out] retries     if given: the sizes used and the failed attempts
+/// @param[in] progress     if given: a line per attempt, as it starts, and per failed attempt
+/// @param[in] max_triangles the retries' budget: the whole surface's area over a triangle's
 /// @return per part: triangle count and quality
 /// @throws pipeline::Error(bad_input) on missing/unknown part labels; Error(algorithm) if gmsh fails
 ///         or the minimum gamma is below `min_gamma` after the last retry
 std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, const std::string& kind,
                                           double size_mm, double back_size_mm, double min_gamma = 0.3,
-                                          int max_retries = default_max_retries, SurfaceMeshRetries* retries = nullptr);
+                                          int max_retries = default_max_retries, SurfaceMeshRetries* retries = nullptr,
+                                          pipeline::Progress* progress = nullptr,
+                                          double max_triangles = max_surface_mesh_triangles);
 
 }  // namespace meshing

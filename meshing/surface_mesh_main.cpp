@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   cli.option("-o", "--out", &out, "surface mesh (.msh 4.1)", pipeline::required);
   cli.option("-k", "--kind", &kind, "head | respirator");
   cli.option("-s", "--size", &size_mm, "edge length on the face parts / respirator [mm] (6.4 gives the generated medium head ~13,000 wedges in layers, the paper's model 13,570)", 0.5, 50.0);
-  cli.option("-b", "--back-size", &back_mm, "edge length on back_of_head [mm] (a rigid shell, no wedges; much coarser than --size gives poor triangles at the cut)", 0.5, 50.0);
+  cli.option("-b", "--back-size", &back_mm, "edge length on back_of_head [mm] (a rigid shell, no wedges); without it min(7, 2 x --size), at most 2.5 x --size (coarser leaves no good triangle at the cut)", 0.5, 50.0);
   cli.option("-g", "--min-gamma", &min_gamma, "fail below this triangle quality", 0.0, 1.0);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
@@ -37,6 +37,15 @@ int main(int argc, char** argv) {
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     pipeline::require_extension("--out", out, {".msh"});
     pipeline::require_writable_outputs({out});
+    if (!cli.given("--back-size")) back_mm = meshing::default_back_size_for(size_mm);
+    if (kind == "head" && back_mm > meshing::max_back_size_ratio * size_mm)
+      throw pipeline::Error(pipeline::ErrorKind::usage,
+                            "--back-size " + pipeline::format_number(back_mm) + " mm is more than " +
+                                pipeline::format_number(meshing::max_back_size_ratio) + " times --size " +
+                                pipeline::format_number(size_mm) + " mm: the cut between them gets no good triangle at "
+                                "any size; give at most " + pipeline::format_number(meshing::max_back_size_ratio * size_mm) +
+                                " mm, or leave --back-size out (" + pipeline::format_number(meshing::default_back_size_for(size_mm)) +
+                                " mm)");
     pipeline::Progress progress("surface_mesh", 0);
     const pipeline::SurfaceMesh fitted = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(fitted.points()), kind);
@@ -44,16 +53,13 @@ int main(int argc, char** argv) {
     pipeline::require_affordable_edge("--size", size_mm, fitted, meshing::max_surface_mesh_triangles);
     pipeline::require_affordable_edge("--back-size", back_mm, fitted, meshing::max_surface_mesh_triangles);
     pipeline::GmshSession session;
-    progress.step("meshing");
     std::size_t total = 0;
     meshing::SurfaceMeshRetries retries;
     const auto parts = pipeline::naming_file(
         in, [&] {
-          return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma, meshing::default_max_retries, &retries);
+          return meshing::surface_mesh(fitted, kind, size_mm, back_mm, min_gamma, meshing::default_max_retries, &retries,
+                                       &progress);
         });
-    for (const auto& f : retries.failed)
-      pipeline::log("surface_mesh",
-                    f + "; meshed again " + pipeline::format_number(meshing::retry_size_factor) + " times finer");
     if (!retries.failed.empty())
       pipeline::log("surface_mesh", "meshed at size " + pipeline::format_number(retries.size_mm) + " mm" +
                                         (kind == "head" ? ", back " + pipeline::format_number(retries.back_size_mm) + " mm"

@@ -90,6 +90,12 @@ Cli::Opt* Cli::find(const std::string& flag) {
   return nullptr;
 }
 
+bool Cli::given(const std::string& long_flag) const {
+  for (const auto& o : opts_)
+    if (o.long_flag == long_flag) return o.seen;
+  throw Error(ErrorKind::usage, program_ + " has no option " + long_flag);
+}
+
 bool Cli::parse(int argc, char** argv) {
   for (auto& o : opts_) o.seen = false;
   for (int i = 1; i < argc; ++i) {

@@ -43,6 +43,9 @@ class Cli {
   /// "name=value" of every option, for the log line after parsing.
   std::string resolved() const;
   const std::string& program() const { return program_; }
+  /// Whether the last parse was given `long_flag` ("--back-size"), for a default that depends on
+  /// another option. @throws Error(usage) for a flag the program does not have.
+  bool given(const std::string& long_flag) const;
 
  private:
   struct Opt {

@@ -5,7 +5,10 @@
 
 #include <gmsh.h>
 
+#include <CGAL/Polygon_mesh_processing/measure.h>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -92,6 +95,37 @@ TEST(surface_mesh, niosh_medium_conforming_good_quality_layering_size) {
 // and listed each part's boundary in pointer order: the same fitted head meshed from a relative and
 // from an absolute path gave two surface.msh files. build_part_model renumbers them from the node
 // tags (internal/number_topology.h); this checks each rule on the model it leaves.
+// The retries mesh finer and finer: on a generated head --size 1 with the 7 mm back failed at
+// every size and ran past 400 s and 1 GB. A retry past the triangle budget is not tried; the
+// error says why. Here a budget just under the first retry's estimate: one attempt, then the error.
+TEST(surface_mesh, retries_stop_at_the_triangle_budget) {
+  const pipeline::SurfaceMesh fitted = fitted_medium();
+  const pipeline::GmshSession gmsh_session;
+  const double first_retry_mm = meshing::default_size_mm * meshing::retry_size_factor;
+  const double budget = CGAL::Polygon_mesh_processing::area(fitted) / (std::sqrt(3.0) / 4 * first_retry_mm * first_retry_mm) - 1;
+  pipeline::Progress progress("surface_mesh_test", 0);
+  meshing::SurfaceMeshRetries retries;
+  try {
+    meshing::surface_mesh(fitted, "head", meshing::default_size_mm, meshing::default_back_size_mm, 0.99,
+                          meshing::default_max_retries, &retries, &progress, budget);
+    ADD_FAILURE() << "no error";
+  } catch (const pipeline::Error& e) {
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::algorithm);
+    const std::string message = e.what();
+    EXPECT_NE(message.find(" < 0.99 at size 6.4 mm, at ("), std::string::npos) << message;
+    EXPECT_NE(message.find(": the next size, 5.12 mm, would make ~"), std::string::npos) << message;
+    EXPECT_NE(message.find("; try a larger --size, or a lower --min-gamma"), std::string::npos) << message;
+  }
+}
+
+// What the size options may be: without --back-size the back follows --size (min(7, 2 x size));
+// a back more than 2.5 times the size is refused before any work.
+TEST(surface_mesh, the_back_size_follows_the_size) {
+  EXPECT_EQ(meshing::default_back_size_for(meshing::default_size_mm), meshing::default_back_size_mm);
+  EXPECT_EQ(meshing::default_back_size_for(2.0), 4.0);
+  EXPECT_EQ(meshing::default_back_size_for(10.0), 10.0);  // never finer than the face parts
+}
+
 TEST(surface_mesh, points_and_curves_numbered_and_directed_by_node_tags) {
   const pipeline::SurfaceMesh fitted = fitted_medium();
   const pipeline::GmshSession gmsh_session;
@@ -186,6 +220,12 @@ TEST(surface_mesh_cli, writes_msh_meshio_reads_and_fails_cleanly) {
   const std::string check = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + out +
                             "'); assert set(m.cell_sets) >= {'forehead','left_cheek','right_cheek','chin','back_of_head'}\"";
   EXPECT_EQ(std::system(check.c_str()), 0);
+  // A back of 7 mm beside 2 mm face parts: refused at once (exit 1), not 251 s of failed retries.
+  ASSERT_EQ(run_command(bin + out + ".coarse_back.msh --size 2 --back-size 7 2> " + (dir / "err.txt").string()), 1);
+  EXPECT_NE(file_text((dir / "err.txt").string())
+                .find("surface_mesh: --back-size 7 mm is more than 2.5 times --size 2 mm: the cut between them gets no "
+                      "good triangle at any size; give at most 5 mm, or leave --back-size out (4 mm)"),
+            std::string::npos);
   // An unreachable quality threshold is an algorithm failure: exit 3, no file.
   const std::string bad = (dir / "bad.msh").string();
   EXPECT_EQ(run_command(bin + bad + " --min-gamma 0.99 2>/dev/null"), 3);
