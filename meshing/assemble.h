@@ -34,11 +34,13 @@ void require_straps(const layering::FeModel& straps, const std::string& path);
 
 /// Every landmark of `lm` (read from `path`) within `max_mm` of the head's skin (its head_skin
 /// group, else all its triangles). The landmarks stage puts them on the aligned surface, which the
-/// layered skin follows to a few mm; one far off (another head's file, a hand edit in another
-/// frame) made straps hang on a coordinate of 1e300.
+/// layered skin follows to 2 mm (the generated medium and both NIOSH heads: 0.8, 1.9 and 1.9 mm at
+/// worst, a tragion or the pronasale); one far off (another head's file, a hand edit in another
+/// frame) made straps hang on a coordinate of 1e300. 10 mm as segment's check: at 20 mm NIOSH
+/// medium's landmarks, 12-18.5 mm off NIOSH large's skin, were taken for NIOSH large's.
 /// @throws Error(bad_input) naming `path` and the landmark.
 void require_landmarks_near_skin(const layering::FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
-                                 const std::string& path, double max_mm = 20);
+                                 const std::string& path, double max_mm = 10);
 
 struct PlaceOptions {
   double gap_mm = 3.0;            ///< minimum distance respirator–skin [mm], > 0
