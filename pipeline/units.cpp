@@ -44,6 +44,18 @@ double expected_extent_mm(const std::string& kind) {
   throw Error(ErrorKind::usage, "--kind: '" + kind + "', expected head or respirator");
 }
 
+void require_real_size(const std::string& path, double extent_mm, const std::string& kind, bool kind_option) {
+  const double expected_mm = expected_extent_mm(kind);
+  const double smallest_mm = smallest_real_share_of_extent * expected_mm, largest_mm = largest_real_share_of_extent * expected_mm;
+  const std::string spans = "it spans " + format_number(std::round(extent_mm * 10) / 10) + " mm, ";
+  const std::string another_kind = kind_option ? "an object of another kind (see --kind)?" : "an object other than a " + kind + "?";
+  if (extent_mm > largest_mm)
+    throw bad_input(path, spans + "over the " + format_number(largest_mm) + " mm of the largest " + kind +
+                              ": a vertex far off (repair removes spikes and debris), or " + another_kind);
+  if (!(extent_mm >= smallest_mm))
+    throw bad_input(path, spans + "under the " + format_number(smallest_mm) + " mm of the smallest " + kind + ": " + another_kind);
+}
+
 namespace {
 // The window both the unit guess and the mm check accept: a factor 4 either way leaves room for
 // small and large heads and respirators, and still tells mm from cm (10x) and inches (25x).

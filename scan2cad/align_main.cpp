@@ -11,7 +11,6 @@
 //   align --in ../shared/data/respirator-parts/Flex_Face_Seal_v9-M.stl --kind respirator --out r.ply -t r.json
 #include <Eigen/Dense>
 
-#include <cmath>
 #include <sstream>
 
 #include "pipeline/atomic_write.h"
@@ -52,6 +51,9 @@ int main(int argc, char** argv) {
                                                                kind_name, expected_mm));
     if (unit != pipeline::Unit::automatic)
       pipeline::require_forced_unit_plausible(in, unit_read, extent_mm, kind_name, expected_mm);
+    // The unit is guessed without a few far vertices, which align would then take as the object's:
+    // one vertex 3 m off failed 5 s later as "cannot tell up from down", one at 1e30 after 23 s.
+    pipeline::require_real_size(in, extent_mm, kind_name);
     // 3. Align
     progress.step("symmetry plane and axes");
     scan2cad::AlignOptions opt;

@@ -26,7 +26,7 @@
 int main(int argc, char** argv) {
   std::string in, out, user;
   pipeline::Cli cli("landmarks", "Detects facial landmarks on an aligned head (x lateral, y up, z out of the face; mm).");
-  cli.option("-i", "--in", &in, "aligned head surface (PLY, mm)", pipeline::required);
+  cli.option("-i", "--in", &in, "aligned head surface (PLY, OFF, OBJ or STL; mm)", pipeline::required);
   cli.option("-o", "--out", &out, "landmarks (JSON)", pipeline::required);
   cli.option("-u", "--user", &user, "user landmarks (JSON) replacing detection");
   return pipeline::run_main(cli, argc, argv, [&] {
@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
     pipeline::Progress progress("landmarks", 0);
     const auto head = pipeline::read_surface_mesh(in);
     pipeline::require_mm(in, pipeline::largest_extent(head.points()), "head");
+    pipeline::require_real_size(in, pipeline::largest_extent(head.points()), "head", false);
     pipeline::naming_file(in, [&] { scan2cad::require_head_frame(head); });
     // 2. Detect, or validate the user's file against the head
     scan2cad::Landmarks l;

@@ -89,3 +89,25 @@ TEST(align_cli, unit_option_forces_the_unit_the_size_cannot_tell) {
   EXPECT_EQ(run("--in " + inches + " --unit parsec" + outs()), 1);
   EXPECT_NE(err().find("parsec"), std::string::npos) << err();
 }
+
+// align takes the whole surface as the object: a head given as a respirator (285.7 mm) was aligned
+// as one with exit 0, and a vertex 3 m off a head (the unit is guessed without a few far points)
+// ended 5 s later as "cannot tell up from down". Both are refused by their size, with no output.
+TEST(align_cli, a_surface_larger_than_its_kind_is_refused) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string stl = std::string(SHARED_DATA_DIR) + "/headforms/NIOSH_medium_20k.stl";
+  EXPECT_EQ(run("--in " + stl + " --kind respirator" + outs()), 2);
+  EXPECT_EQ(last_line(err()), "align: " + stl + ": it spans 285.7 mm, over the 208 mm of the largest respirator: a vertex far "
+                                                 "off (repair removes spikes and debris), or an object of another kind (see --kind)?");
+  const std::string spiked = (dir / "spiked.ply").string();
+  const std::string convert = std::string(SYSTEM_PYTHON) + " -c \"import meshio; m = meshio.read('" + stl +
+                              "'); p = m.points.astype(float); p[0, 2] += 3000; meshio.write('" + spiked +
+                              "', meshio.Mesh(p, m.cells), binary=False)\" 2>/dev/null";
+  ASSERT_EQ(std::system(convert.c_str()), 0);
+  EXPECT_EQ(run("--in " + spiked + outs()), 2);
+  EXPECT_NE(last_line(err()).find(spiked + ": it spans 3115.3 mm"), std::string::npos) << err();
+  EXPECT_NE(last_line(err()).find(" mm, over the 400 mm of the largest head: a vertex far off"), std::string::npos) << err();
+  EXPECT_FALSE(fs::exists(dir / "a.ply"));
+  EXPECT_FALSE(fs::exists(dir / "a.json"));
+}

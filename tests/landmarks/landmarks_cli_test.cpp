@@ -142,3 +142,18 @@ TEST(landmarks_cli, a_head_not_in_the_frame_exits_2_before_any_landmark) {
   // The same file on the upright head passes the frame check and is refused only as far from it.
   expect_bad_input("--in " + head + " --user " + (dir / "turned_user.json").string(), (dir / "turned_user.json").string());
 }
+
+// A respirator (or anything under the 150 mm of the smallest head) given as the head: detection
+// failed as "no ear region on side left"; now its size is named, exit 2, no output.
+TEST(landmarks_cli, an_object_smaller_than_any_head_is_refused_by_its_size) {
+  auto mesh = pipeline::read_surface_mesh(aligned_niosh_medium());
+  Eigen::Matrix4d shrink = Eigen::Matrix4d::Identity();
+  shrink(0, 0) = shrink(1, 1) = shrink(2, 2) = 0.4;  // 114 mm across
+  scan2cad::apply_transform(mesh, shrink);
+  const std::string small = (dir / "small.ply").string();
+  pipeline::write_surface_mesh(small, mesh);
+  expect_bad_input("--in " + small, small);
+  EXPECT_NE(error_lines().at(0).find(": it spans 114."), std::string::npos) << error_lines().at(0);
+  EXPECT_NE(error_lines().at(0).find(" mm, under the 150 mm of the smallest head: an object other than a head?"), std::string::npos)
+      << error_lines().at(0);
+}

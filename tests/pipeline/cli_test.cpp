@@ -41,6 +41,13 @@ TEST(cli, parses_long_short_and_inline_values) {
   EXPECT_DOUBLE_EQ(edge, 1.5);
   EXPECT_EQ(n, 7);
   EXPECT_TRUE(verbose);
+  // which options were given, for defaults that follow another option (surface_mesh --back-size)
+  EXPECT_TRUE(cli.given("--edge"));
+  Args b({"prog", "-i", "x.ply"});
+  ASSERT_TRUE(cli.parse(b.argc(), b.argv()));
+  EXPECT_FALSE(cli.given("--edge"));
+  EXPECT_TRUE(cli.given("--in"));
+  EXPECT_THROW(cli.given("--size"), pipeline::Error);
 }
 
 TEST(cli, rejects_absurd_and_malformed_values) {

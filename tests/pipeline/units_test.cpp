@@ -105,6 +105,21 @@ TEST(require_mm, rejects_a_head_in_m_cm_or_inches_and_names_the_file) {
   EXPECT_THROW(pipeline::expected_extent_mm("hat"), pipeline::Error);
 }
 
+// align and landmarks take one whole surface as a head or a respirator: sizes outside 0.6-1.6
+// times the kind's are refused (a head aligned as a respirator, a respirator given to landmarks,
+// a vertex 3 m off).
+TEST(require_real_size, refuses_sizes_no_head_or_respirator_has) {
+  EXPECT_NO_THROW(pipeline::require_real_size("h.ply", 285.7, "head"));
+  EXPECT_NO_THROW(pipeline::require_real_size("r.ply", 111.8, "respirator"));
+  EXPECT_EQ(bad_input_message([] { pipeline::require_real_size("h.ply", 288.44, "respirator"); }, "h.ply"),
+            "it spans 288.4 mm, over the 208 mm of the largest respirator: a vertex far off (repair removes spikes and "
+            "debris), or an object of another kind (see --kind)?");
+  EXPECT_EQ(bad_input_message([] { pipeline::require_real_size("r.ply", 111.8, "head", false); }, "r.ply"),
+            "it spans 111.8 mm, under the 150 mm of the smallest head: an object other than a head?");
+  EXPECT_THROW(pipeline::require_real_size("h.ply", 3086.4, "head"), pipeline::Error);
+  EXPECT_THROW(pipeline::require_real_size("h.ply", std::nan(""), "head"), pipeline::Error);
+}
+
 TEST(largest_extent, of_cgal_points_and_eigen_vectors) {
   const std::vector<pipeline::Point> p = {{0, 0, 0}, {3, -5, 1}, {1, 2, 2}};
   EXPECT_DOUBLE_EQ(pipeline::largest_extent(p), 7.0);
