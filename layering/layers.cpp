@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <sstream>
 
@@ -175,6 +176,23 @@ FeModel build_layers(const FeModel& surface, const std::map<std::string, Stack>&
   progress.step("layered: " + msg.str());
   if (report) *report = r;
   return out;
+}
+
+std::vector<std::string> volume_shortfall_warnings(const LayerReport& report, double max_shortfall) {
+  std::vector<std::pair<double, std::string>> short_groups;
+  for (const auto& v : report.volumes)
+    if (const double shortfall = 1 - v.volume / v.mid_area_volume; shortfall > max_shortfall)
+      short_groups.emplace_back(shortfall, v.group);
+  std::sort(short_groups.rbegin(), short_groups.rend());
+  std::vector<std::string> lines;
+  for (const auto& [shortfall, group] : short_groups) {
+    char line[240];
+    std::snprintf(line, sizeof line,
+                  "%s holds %.1f %% less than its mid-area x thickness (%zu columns thinned where the stack does not fit)",
+                  group.c_str(), 100 * shortfall, report.reduced_columns);
+    lines.push_back(line);
+  }
+  return lines;
 }
 
 }  // namespace layering

@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
                     100 * (v.full_depth_volume / std::max(v.full_depth_mid_area_volume, 1e-300) - 1));
       pipeline::log("layers", line);
     }
+    for (const std::string& w : layering::volume_shortfall_warnings(rep)) pipeline::log("layers", "warning: " + w);
     return 0;
   });
 }
