@@ -165,8 +165,16 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
                                                  pipeline::format_number(std::round(s.back())) + " mm between its attachment points), more than " +
                                                  pipeline::format_number(opt.max_stretch_percent) + " % (--max-stretch-percent): is the length in mm?");
   const double s0 = s[ib] - 0.5 * opt.length_mm, s1 = s[ib] + 0.5 * opt.length_mm;
-  if (s0 < 0 || s1 > s.back())
-    throw pipeline::bad_input("--length-mm", name + ": length " + pipeline::format_number(opt.length_mm) + " mm exceeds the head outline between its attachment points (" + pipeline::format_number(s.back()) + " mm)");
+  // The band is centred on the back of the head, so what fits is twice the shorter side: a 384 mm
+  // strap "exceeded" an outline of 384.012 mm, which it does not.
+  if (s0 < 0 || s1 > s.back()) {
+    const double fits_mm = 2 * std::min(s[ib], s.back() - s[ib]);
+    throw pipeline::bad_input("--length-mm", name + ": a " + pipeline::format_number(opt.length_mm) +
+                                                 " mm strap centred on the back of the head runs past an attachment point: "
+                                                 "at most " + pipeline::format_number(std::floor(fits_mm * 10) / 10) +
+                                                 " mm fits (the outline between the attachment points is " +
+                                                 pipeline::format_number(std::round(s.back() * 10) / 10) + " mm)");
+  }
   const int n = std::max(2, int(std::ceil(opt.length_mm / opt.element_mm)));
   const int base = int(out->nodes.size());
   // Nodes: n+1 stations × 3 across the width (centre and both edges).

@@ -83,7 +83,8 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
            << " mm in cm, small for an object of about " << expected_mm << " mm, or "
            << format_number(extent * mm_per_unit(Unit::inch)) << " mm in inches: force one with --unit cm or --unit in";
       else
-        ss << "largest extent " << extent << " is " << format_number(size_mm) << " mm in " << unit_name(u)
+        ss << "largest extent " << (u == Unit::mm ? "" : format_number(extent) + " is ")
+           << format_number(std::round(size_mm * 10) / 10) << " mm" << (u == Unit::mm ? "" : " in " + unit_name(u))
            << ", under " << smallest_real_share_of_extent << " of an object of about " << expected_mm
            << " mm: an object of another kind (see --kind)? If the size is right, force the unit with --unit "
            << unit_name(u);

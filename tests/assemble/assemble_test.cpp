@@ -115,6 +115,16 @@ TEST(make_straps, a_strap_the_head_would_stretch_past_the_limit_is_refused) {
   o.max_stretch_percent = 110;
   meshing::make_straps(s.head, s.lm, s.resp, o, &rep);
   EXPECT_NEAR(rep.top_length, o.length_mm, 0.02 * o.length_mm);
+  // As long as the bottom outline: the band, centred on the back of the head, runs past one
+  // attachment point. The message said the length "exceeds" the outline (384 mm against 384.012).
+  o.length_mm = std::round(rep.bottom_outline);
+  const std::string too_long = error_message(pipeline::ErrorKind::bad_input, [&] { meshing::make_straps(s.head, s.lm, s.resp, o, nullptr); });
+  EXPECT_EQ(too_long.rfind("--length-mm: strap_bottom: a " + pipeline::format_number(o.length_mm) +
+                               " mm strap centred on the back of the head runs past an attachment point: at most ",
+                           0),
+            0u)
+      << too_long;
+  EXPECT_NE(too_long.find(" mm fits (the outline between the attachment points is "), std::string::npos) << too_long;
 }
 
 // The top strap's back point is raised to clear the ears by extrapolating from the attachments;

@@ -40,10 +40,10 @@ TEST(detect_unit, a_size_that_may_be_cm_or_inches_is_refused_not_guessed) {
 // a respirator (107-133 mm) given as a head, which went through reconstruct and repair.
 TEST(detect_unit, a_head_smaller_than_any_adults_is_refused_in_mm_and_m) {
   const std::string cup_as_head = bad_input_message([] { pipeline::detect_unit(111.8, 250, "r.ply"); }, "r.ply");
-  EXPECT_EQ(cup_as_head, "largest extent 111.8 is 111.8 mm in mm, under 0.6 of an object of about 250 mm: an object of "
+  EXPECT_EQ(cup_as_head, "largest extent 111.8 mm, under 0.6 of an object of about 250 mm: an object of "
                          "another kind (see --kind)? If the size is right, force the unit with --unit mm");
   const std::string in_m = bad_input_message([] { pipeline::detect_unit(0.1118, 250, "r.ply"); }, "r.ply");
-  EXPECT_NE(in_m.find("111.8 mm in m, under 0.6"), std::string::npos) << in_m;
+  EXPECT_NE(in_m.find("largest extent 0.1118 is 111.8 mm in m, under 0.6"), std::string::npos) << in_m;
   EXPECT_EQ(pipeline::detect_unit(151, 250, "h"), Unit::mm);  // a small head's face-only scan
   EXPECT_EQ(pipeline::detect_unit(79, 130, "r"), Unit::mm);   // just over 0.6 of a respirator's 130 mm
   EXPECT_THROW(pipeline::detect_unit(77, 130, "r"), pipeline::Error);

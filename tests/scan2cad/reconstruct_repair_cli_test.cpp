@@ -184,7 +184,7 @@ TEST(reconstruct_cli, a_respirator_given_as_a_head_is_rejected) {
   const std::string cup = (dir / "cup_as_head.ply").string();
   ASSERT_EQ(run("generate_scan --kind respirator --id onesize --params " + std::string(SOURCE_DIR) +
                 "/data/generator/respirators.json --points 5000 --out " + cup).code, 0);
-  expect_rejected("reconstruct", cup, "mm in mm, under 0.6 of an object of about 250 mm: an object of another kind");
+  expect_rejected("reconstruct", cup, " mm, under 0.6 of an object of about 250 mm: an object of another kind");
   pipeline::PointCloud strays = pipeline::read_scan(cup, {pipeline::Unit::mm}).cloud;
   generator::Rng rng{8};
   for (std::size_t i = 0, n = strays.points.size() / 50; i < n; ++i)
@@ -194,7 +194,7 @@ TEST(reconstruct_cli, a_respirator_given_as_a_head_is_rejected) {
   pipeline::write_point_cloud(cup_with_strays, strays);
   expect_rejected("reconstruct", cup_with_strays, "mm, under the 150 mm of the smallest head: an object of another kind");
   expect_rejected("repair", std::string(SHARED_DATA_DIR) + "/respirator-parts/Conforming_Invert_M.stl",
-                  "132.86 mm in mm, under 0.6 of an object of about 250 mm");
+                  "largest extent 132.9 mm, under 0.6 of an object of about 250 mm");
 }
 
 // The other way round: a head given as a respirator went through reconstruct, repair and align,
