@@ -37,6 +37,10 @@ int main(int argc, char** argv) {
       throw pipeline::Error(pipeline::ErrorKind::usage, "--kind: got '" + kind + "', expected head or respirator");
     if (kind == "head" && landmarks.empty())
       throw pipeline::Error(pipeline::ErrorKind::usage, "--landmarks is required for --kind head");
+    // a respirator is cut by its own shape; a landmarks file given with it was silently ignored
+    if (kind == "respirator" && !landmarks.empty())
+      throw pipeline::Error(pipeline::ErrorKind::usage, "--landmarks is for --kind head: a respirator's inner face is found "
+                                                        "from its shape (leave --landmarks out)");
     pipeline::require_extension("--out", out, {".ply"});  // only PLY keeps the face property 'part'
     pipeline::require_writable_outputs({out});
     pipeline::Progress progress("segment", 0);

@@ -112,6 +112,7 @@ TEST(segment_cli, writes_labelled_ply_and_rejects_bad_input) {
   EXPECT_EQ(run("--in " + ply + " --landmarks /nonexistent.json --out " + bad), 2);
   EXPECT_EQ(run("--in /nonexistent.ply --landmarks " + fixture + " --out " + bad), 2);
   EXPECT_EQ(run("--in " + ply + " --landmarks " + fixture + " --kind hat --out " + bad), 1);
+  EXPECT_EQ(run("--in " + ply + " --landmarks " + fixture + " --kind respirator --out " + bad), 1);  // was ignored
   EXPECT_FALSE(fs::exists(bad));
 }
 
