@@ -1,5 +1,7 @@
 #include "pipeline/read_landmarks.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -57,7 +59,17 @@ std::map<std::string, Landmark> read_landmarks(const std::string& path, const st
   if (!j.is_object() || !j.contains("landmarks") || !j["landmarks"].is_object())
     throw bad_input(path, "no \"landmarks\" object");
   std::map<std::string, Landmark> out;
-  for (const auto& [name, v] : j["landmarks"].items()) out[name] = landmark_of(v, path, "landmark " + name);
+  for (const auto& [name, v] : j["landmarks"].items()) {
+    // Other landmarks are kept (a user's own points), but a stage's name written another way
+    // ("Sellion", "Tragion_Left") was kept as another point while the file's real one was used,
+    // or reported missing.
+    std::string lower = name;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    const auto& known = head_landmark_names();
+    if (lower != name && std::find(known.begin(), known.end(), lower) != known.end())
+      throw bad_input(path, "landmark \"" + name + "\": the name is \"" + lower + "\" (lower case)");
+    out[name] = landmark_of(v, path, "landmark " + name);
+  }
   for (const auto& name : required)
     if (!out.count(name)) throw bad_input(path, "landmark " + name + " missing");
   for (const auto& [name, l] : out) {

@@ -50,6 +50,9 @@ TEST(read_landmarks, reads_positions_and_confidences_and_keeps_extra_landmarks) 
   EXPECT_EQ(lm.at("menton").confidence, 0.8);
   EXPECT_EQ(lm.at("subnasale").confidence, 1.0);
   EXPECT_EQ(lm.at("zygion_right").position.x(), -60.0);
+  // one of the stages' names in another case is a slip, not a landmark of the user's own
+  j["landmarks"]["Sellion"] = j["landmarks"]["sellion"];
+  EXPECT_EQ(message_for(j), "landmark \"Sellion\": the name is \"sellion\" (lower case)");
 }
 
 TEST(read_landmarks, names_the_file_and_the_landmark_for_each_problem) {
