@@ -232,9 +232,14 @@ void require_stack_for_every_part(const FeModel& surface, const std::map<std::st
                                   const std::string& surface_path, const std::string& materials_path) {
   for (const auto& [part, stack] : stacks) {
     const Block* b = surface.find(part);
-    if (!b || b->dim != 2 || b->nodes_per_elem != 3)
-      throw pipeline::bad_input(surface_path, "no triangle group " + part + ", which " + materials_path +
-                                                  " layers (a renamed group, or not surface_mesh's output?)");
+    if (!b || b->dim != 2 || b->nodes_per_elem != 3) {
+      // the other kind's surface: a respirator's without --kind respirator, or a head's with it
+      const bool respirator_surface = surface.find("respirator_inner") != nullptr, respirator_stacks = stacks.count("respirator_inner");
+      const std::string hint = respirator_surface && !respirator_stacks   ? "a respirator's surface: give --kind respirator"
+                               : !respirator_surface && respirator_stacks ? "a head's surface: leave out --kind respirator"
+                                                                          : "a renamed group, or not surface_mesh's output?";
+      throw pipeline::bad_input(surface_path, "no triangle group " + part + ", which " + materials_path + " layers (" + hint + ")");
+    }
   }
   for (const Block& b : surface.blocks)
     if (b.dim == 2 && b.nodes_per_elem == 3 && b.name != "back_of_head" && !stacks.count(b.name))

@@ -402,6 +402,13 @@ TEST(require_stack_for_every_part, names_a_part_without_a_stack_or_a_stack_witho
     if (b.name == "chin") b.name = "jaw";
   EXPECT_EQ(message(renamed, stacks),
             "s.msh: no triangle group chin, which m.json layers (a renamed group, or not surface_mesh's output?)");
+  // the other kind's surface (the message gave no hint at --kind)
+  layering::FeModel respirator = surface;
+  respirator.blocks = {layering::Block{"respirator_inner", 2, 3, surface.find("chin")->conn}};
+  EXPECT_EQ(message(respirator, stacks),
+            "s.msh: no triangle group chin, which m.json layers (a respirator's surface: give --kind respirator)");
+  EXPECT_EQ(message(surface, layering::read_stacks(kMaterials, "respirator")),
+            "s.msh: no triangle group respirator_inner, which m.json layers (a head's surface: leave out --kind respirator)");
 }
 
 TEST(parse_elements_per_tissue, takes_materials_of_the_stacks_with_counts_1_to_20) {
