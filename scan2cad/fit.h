@@ -58,6 +58,10 @@ std::size_t mark_border_corners(const pipeline::SurfaceMesh& mesh, double min_tu
 /// ran for minutes past 1 GB.
 constexpr double max_fitted_triangles = 1e6;
 
+/// fit warns where a part of its output is farther than this from the input [mm]: the chain's fits
+/// stay within 0.9 mm at the 2 mm default edge.
+inline constexpr double fit_deviation_warning_mm = 1.0;
+
 /// The fit stage. Heads: constrained isotropic remeshing at `edge_mm` as remesh_parts, with the
 /// sharp edges (> 60 deg) kept as constraints too; then, where that uniform surface misses the
 /// input by more than `refine_above_mm` (highly curved places such as the ears: 1.2-1.5 mm at

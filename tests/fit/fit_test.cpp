@@ -13,6 +13,7 @@
 #include "../bad_input_message.h"
 #include "../niosh_medium_ply.h"
 #include "../last_line.h"
+#include "../file_text.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
 
@@ -93,7 +94,13 @@ TEST(fit_cli, writes_labelled_ply_and_rejects_unlabelled_or_metre_input) {
   const std::string seg = (dir / "seg.ply").string(), out = (dir / "fitted.ply").string();
   pipeline::write_surface_mesh(seg, segmented_medium());
   const std::string fit = std::string(BIN_DIR) + "/fit";
-  EXPECT_EQ(run_command(fit + " --in " + seg + " --out " + out + " 2>/dev/null"), 0);
+  const std::string log = (dir / "log.txt").string();
+  EXPECT_EQ(run_command(fit + " --in " + seg + " --out " + out + " 2>" + log), 0);
+  EXPECT_EQ(file_text(log).find("warning"), std::string::npos) << file_text(log);
+  // A coarse edge: the same exit, and a warning for each part farther than 1 mm from the input.
+  EXPECT_EQ(run_command(fit + " --in " + seg + " --edge 15 --out " + (dir / "coarse.ply").string() + " 2>" + log), 0);
+  EXPECT_NE(file_text(log).find("fit: warning: forehead is up to "), std::string::npos) << file_text(log);
+  EXPECT_NE(file_text(log).find(" mm off the input, over 1 mm (a shorter --edge follows it closer)"), std::string::npos);
   const pipeline::SurfaceMesh back = pipeline::read_surface_mesh(out);
   EXPECT_TRUE((back.property_map<pipeline::FaceIndex, int>(pipeline::part_property).second));
   // No "part" property: bad input (exit 2), no output file.
