@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 #include "pipeline/error.h"
@@ -55,6 +56,8 @@ Cli& Cli::option(const std::string& s, const std::string& l, double* value, cons
     *value = d;
   };
   o.get = [value] { return format_number(*value); };
+  if (min > -std::numeric_limits<double>::max() || max < std::numeric_limits<double>::max())
+    o.range = format_number(min) + " to " + format_number(max);
   opts_.push_back(o);
   return *this;
 }
@@ -71,6 +74,8 @@ Cli& Cli::option(const std::string& s, const std::string& l, int* value, const s
     *value = int(d);
   };
   o.get = [value] { return std::to_string(*value); };
+  if (min > std::numeric_limits<int>::min() || max < std::numeric_limits<int>::max())
+    o.range = std::to_string(min) + " to " + std::to_string(max);
   opts_.push_back(o);
   return *this;
 }
@@ -140,7 +145,8 @@ std::string Cli::usage() const {
     ss << "  " << flags;
     ss << std::string(flags.size() < 26 ? 26 - flags.size() : 1, ' ') << o.help;
     if (o.is_required) ss << " (required)";
-    else if (!o.is_flag && !o.get().empty()) ss << " [default: " << o.get() << "]";
+    else if (!o.is_flag && !o.get().empty())
+      ss << " [default: " << o.get() << (o.range.empty() ? "" : "; " + o.range) << "]";
     ss << "\n";
   }
   ss << "  -h, --help                show this help\n";

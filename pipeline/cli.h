@@ -52,6 +52,7 @@ class Cli {
     Opt(std::string s, std::string l, std::string h)
         : short_flag(std::move(s)), long_flag(std::move(l)), help(std::move(h)) {}
     std::string short_flag, long_flag, help;
+    std::string range;  // "0.5 to 50" for a number with bounds, shown by usage()
     bool is_flag = false, is_required = false, seen = false;
     std::function<void(const std::string&)> set;
     std::function<std::string()> get;

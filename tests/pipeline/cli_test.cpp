@@ -48,6 +48,10 @@ TEST(cli, parses_long_short_and_inline_values) {
   EXPECT_FALSE(cli.given("--edge"));
   EXPECT_TRUE(cli.given("--in"));
   EXPECT_THROW(cli.given("--size"), pipeline::Error);
+  // --help gives each number's range with its default (the ranges were enforced but not shown)
+  const std::string help = cli.usage();
+  EXPECT_NE(help.find("edge [mm] [default: 1.5; 0.1 to 10]"), std::string::npos) << help;
+  EXPECT_NE(help.find("count [default: 7; 1 to 9]"), std::string::npos) << help;
 }
 
 TEST(cli, rejects_absurd_and_malformed_values) {
