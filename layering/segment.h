@@ -74,6 +74,7 @@ struct RespiratorSegmentInfo {
   bool thin_shell = false;     ///< closed (or nearly) thin shell; false: taken as one open sheet
   double wall_mm = 0;          ///< wall thickness: median distance to the opposite sheet [mm]
   double paired_fraction = 0;  ///< share of faces with an opposite-sheet partner
+  std::size_t faces_dropped = 0;  ///< faces not of the inner face: the outer sheet, the edge strip, rim teeth
 };
 
 /// Keeps the inner face (the side toward the face, −z, bounded by its rim) of an aligned

@@ -64,8 +64,12 @@ int main(int argc, char** argv) {
     });
     if (kind == "respirator") {
       char line[200];
-      std::snprintf(line, sizeof line, "%s, wall %.2f mm, %.0f %% of the faces paired across the wall",
-                    info.thin_shell ? "thin shell" : "single open sheet", info.wall_mm, 100 * info.paired_fraction);
+      std::snprintf(line, sizeof line,
+                    "%s, wall %.2f mm, %.0f %% of the faces paired across the wall; %zu faces dropped (%s)",
+                    info.thin_shell ? "thin shell" : "single open sheet", info.wall_mm, 100 * info.paired_fraction,
+                    info.faces_dropped,
+                    info.thin_shell ? "the outer sheet, the strip along the edge and the rim's teeth"
+                                    : "the rim's teeth, one triangle deep");
       pipeline::log("segment", line);
     }
     // 4. Write and summarise

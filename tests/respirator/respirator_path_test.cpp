@@ -109,6 +109,7 @@ TEST_P(GeneratedCup, align_segment_fit_surface_mesh_layers) {
   const layering::PartStats seg = layering::segment_respirator(inner, &info);
   EXPECT_TRUE(info.thin_shell);
   EXPECT_NEAR(info.wall_mm, 1.5, 0.1);  // the generator's wall
+  EXPECT_EQ(info.faces_dropped + seg.faces, placed.mesh.number_of_faces());  // every dropped face counted
   EXPECT_EQ(seg.euler, 1);
   EXPECT_EQ(seg.boundary_loops, 1);
   // The inner sheet is a little smaller than the outer one (offset outward on a dome) and the
@@ -126,6 +127,7 @@ TEST_P(GeneratedCup, align_segment_fit_surface_mesh_layers) {
   const layering::PartStats sheet_seg = layering::segment_respirator(sheet, &sheet_info);
   EXPECT_FALSE(sheet_info.thin_shell);
   EXPECT_EQ(sheet_seg.faces, seg.faces);
+  EXPECT_EQ(sheet_info.faces_dropped, 0u);
   EXPECT_EQ(sheet_seg.euler, 1);
   EXPECT_LT(mean_normal_z(sheet), -0.3);
 
