@@ -33,11 +33,11 @@ inline constexpr double largest_real_share_of_extent = 1.6;
 /// surface as that kind (align, landmarks): a head given as a respirator was aligned as one (288 mm),
 /// a respirator given to landmarks failed as "no ear region", and a vertex 3 m off a head ended
 /// align as "cannot tell up from down".
-/// @param extent_mm  the object's largest bounding-box extent [mm]
+/// @param extent_mm    the object's largest bounding-box extent [mm]
+/// @param kind_option  the stage has --kind (the message then points to it)
 /// @throws Error(bad_input) naming `path`: "it spans 288.4 mm, over the 208 mm of the largest
 ///         respirator: a vertex far off (repair removes spikes and debris), or an object of another
 ///         kind (see --kind)?", or "... under the 150 mm of the smallest head: ...".
-/// @param kind_option  the stage has --kind (the message then points to it)
 void require_real_size(const std::string& path, double extent_mm, const std::string& kind, bool kind_option = true);
 
 /// head_extent_mm for "head", respirator_extent_mm for "respirator". @throws Error(usage) otherwise.
