@@ -10,6 +10,7 @@
 // Sample runs:
 //   landmarks --in build/cases/medium_onesize/head/aligned.ply --out landmarks.json
 //   landmarks --in aligned.ply --user my_landmarks.json --out landmarks.json
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -17,6 +18,7 @@
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/progress.h"
+#include "pipeline/read_landmarks.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/require_landmarks_on_surface.h"
 #include "pipeline/units.h"
@@ -50,6 +52,11 @@ int main(int argc, char** argv) {
     } else {
       l = scan2cad::read_landmarks(user);
       pipeline::require_landmarks_on_surface(l.points, head, user);
+      // a user's own points are kept, but no stage uses them: said, so a misspelt name shows
+      const auto& used = pipeline::head_landmark_names();
+      for (const auto& [name, point] : l.points)
+        if (std::find(used.begin(), used.end(), name) == used.end())
+          pipeline::log("landmarks", "note: " + user + ": landmark " + name + " is none of the nine the stages use; kept in " + out);
     }
     scan2cad::require_adult_face(l, user.empty() ? in : user);
     // 3. Write atomically

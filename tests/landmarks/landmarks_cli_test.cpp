@@ -2,6 +2,7 @@
 // file, malformed user file) gives exit 2, one error line naming the file, and no output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -99,6 +100,18 @@ TEST(landmarks_cli, user_file_replaces_detection) {
   ASSERT_EQ(run("--in " + head + " --user " + (dir / "user.json").string() + " --out " + out()), 0);
   const nlohmann::json got = read_json(out());
   EXPECT_EQ(got["source"], "user");
+  // a point of the user's own is kept, with a note that no stage uses it (a misspelt name shows)
+  nlohmann::json extra = user;
+  extra["landmarks"]["nasion"] = user["landmarks"]["sellion"];
+  write(dir / "extra.json", extra.dump());
+  ASSERT_EQ(run("--in " + head + " --user " + (dir / "extra.json").string() + " --out " + out()), 0);
+  EXPECT_TRUE(read_json(out())["landmarks"].contains("nasion"));
+  const auto notes = error_lines();
+  EXPECT_NE(std::find(notes.begin(), notes.end(),
+                      "landmarks: note: " + (dir / "extra.json").string() +
+                          ": landmark nasion is none of the nine the stages use; kept in " + out()),
+            notes.end());
+  ASSERT_EQ(run("--in " + head + " --user " + (dir / "user.json").string() + " --out " + out()), 0);
   for (auto& [name, p] : user["landmarks"].items())
     for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(got["landmarks"][name]["position"][k].get<double>(), p["position"][k].get<double>()) << name;
   // A user's point far from the surface (wrong frame) is bad input naming the file.
