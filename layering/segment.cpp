@@ -364,7 +364,6 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
   std::vector<FaceIndex> drop;
   for (auto f : mesh.faces())
     if (label[f] != respirator_inner) drop.push_back(f);
-  const std::size_t dropped = drop.size();
   for (auto f : drop) CGAL::Euler::remove_face(mesh.halfedge(f), mesh);
   mesh.collect_garbage();
   if (mesh.number_of_faces() == 0)
@@ -374,7 +373,7 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
     info->thin_shell = thin_shell;
     info->wall_mm = wall_mm;
     info->paired_fraction = double(paired) / double(nf);
-    info->faces_dropped = dropped;
+    info->faces_dropped = drop.size();
   }
   return part_stats(mesh, respirator_inner);
 }

@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "pipeline/error.h"
+#include "pipeline/require_affordable_edge.h"
 #include "scan2cad/fit.h"
 
 namespace meshing {
@@ -45,7 +46,6 @@ std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, c
                                           SurfaceMeshRetries* retries, pipeline::Progress* progress, double max_triangles) {
   SurfaceMeshRetries tried;
   const double area_mm2 = CGAL::Polygon_mesh_processing::area(fitted);
-  const auto triangles_at = [&](double edge_mm) { return area_mm2 / (std::sqrt(3.0) / 4.0 * edge_mm * edge_mm); };
   for (int attempt = 0;; ++attempt) {
     if (progress)
       progress->step("meshing at size " + pipeline::format_number(size_mm) + " mm" +
@@ -89,7 +89,7 @@ std::vector<SurfaceMeshPart> surface_mesh(const pipeline::SurfaceMesh& fitted, c
     if (attempt == max_retries)
       throw pipeline::Error(pipeline::ErrorKind::algorithm, failure + larger + ": try a smaller --size, or a lower --min-gamma");
     // Each retry costs more than the last: no retry past the budget the options are held to.
-    const double next_triangles = triangles_at(std::min(size_mm, back_size_mm) * retry_size_factor);
+    const double next_triangles = pipeline::triangles_for_edge(area_mm2, std::min(size_mm, back_size_mm) * retry_size_factor);
     if (next_triangles > max_triangles) {
       char budget[160];
       std::snprintf(budget, sizeof budget, ": the next size, %g mm, would make ~%.2g triangles, more than %g million",

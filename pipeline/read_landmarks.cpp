@@ -54,6 +54,11 @@ const std::vector<std::string>& head_landmark_names() {
   return names;
 }
 
+bool is_head_landmark_name(const std::string& name) {
+  const auto& names = head_landmark_names();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
 std::map<std::string, Landmark> read_landmarks(const std::string& path, const std::vector<std::string>& required) {
   const nlohmann::json j = read_json(path);
   if (!j.is_object() || !j.contains("landmarks") || !j["landmarks"].is_object())
@@ -65,8 +70,7 @@ std::map<std::string, Landmark> read_landmarks(const std::string& path, const st
     // or reported missing.
     std::string lower = name;
     std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
-    const auto& known = head_landmark_names();
-    if (lower != name && std::find(known.begin(), known.end(), lower) != known.end())
+    if (lower != name && is_head_landmark_name(lower))
       throw bad_input(path, "landmark \"" + name + "\": the name is \"" + lower + "\" (lower case)");
     out[name] = landmark_of(v, path, "landmark " + name);
   }

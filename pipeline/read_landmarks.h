@@ -24,6 +24,9 @@ inline constexpr double max_landmark_coordinate_mm = 1e4;
 /// pronasale, menton, and zygion, tragion and gonion, each left and right.
 const std::vector<std::string>& head_landmark_names();
 
+/// Whether `name` is one of head_landmark_names().
+bool is_head_landmark_name(const std::string& name);
+
 /// Reads the "landmarks" object of `path`: name → {"position": [x, y, z], "confidence": c}.
 /// "confidence" is optional (1 when absent); a landmark's other keys are refused, except comments
 /// ("_..."). Landmarks of other names are kept (and held to the side rule below).

@@ -9,6 +9,10 @@
 
 namespace pipeline {
 
+/// How many equilateral triangles of edge `edge_mm` (sqrt(3)/4 e² each) cover `area_mm2`: the
+/// estimate the check below and surface_mesh's retry budget hold a remeshing to.
+double triangles_for_edge(double area_mm2, double edge_mm);
+
 /// Refuses `edge_mm` if equilateral triangles of that edge (sqrt(3)/4 e² each) would cover
 /// `surface` more than `max_triangles` times.
 /// @param[in] option  the command-line option, for the message ("--edge")

@@ -10,7 +10,6 @@
 // Sample runs:
 //   landmarks --in build/cases/medium_onesize/head/aligned.ply --out landmarks.json
 //   landmarks --in aligned.ply --user my_landmarks.json --out landmarks.json
-#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -38,8 +37,9 @@ int main(int argc, char** argv) {
     // 1. Input (run_main has logged the options)
     pipeline::Progress progress("landmarks", 0);
     const auto head = pipeline::read_surface_mesh(in);
-    pipeline::require_mm(in, pipeline::largest_extent(head.points()), "head");
-    pipeline::require_real_size(in, pipeline::largest_extent(head.points()), "head", false);
+    const double extent_mm = pipeline::largest_extent(head.points());
+    pipeline::require_mm(in, extent_mm, "head");
+    pipeline::require_real_size(in, extent_mm, "head", false);
     pipeline::naming_file(in, [&] { scan2cad::require_head_frame(head); });
     // 2. Detect, or validate the user's file against the head
     scan2cad::Landmarks l;
@@ -53,9 +53,8 @@ int main(int argc, char** argv) {
       l = scan2cad::read_landmarks(user);
       pipeline::require_landmarks_on_surface(l.points, head, user);
       // a user's own points are kept, but no stage uses them: said, so a misspelt name shows
-      const auto& used = pipeline::head_landmark_names();
       for (const auto& [name, point] : l.points)
-        if (std::find(used.begin(), used.end(), name) == used.end())
+        if (!pipeline::is_head_landmark_name(name))
           pipeline::log("landmarks", "note: " + user + ": landmark " + name + " is none of the nine the stages use; kept in " + out);
     }
     scan2cad::require_adult_face(l, user.empty() ? in : user);
