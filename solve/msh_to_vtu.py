@@ -39,6 +39,10 @@ def main():
     if len(sys.argv) != 3:
         sys.exit("usage: msh_to_vtu.py results.msh out.xdmf")
     src, dst = sys.argv[1], sys.argv[2]
+    # The .vtu of the last frame is named after the output: an output named .vtu was written as
+    # XDMF and then replaced by that frame, and the time series was lost (exit 0).
+    if not dst.endswith(".xdmf"):
+        sys.exit(f"msh_to_vtu: {dst}: the output must be named .xdmf (the last frame goes beside it as .vtu)")
     try:
         mesh = read_mesh_or_raise(src, file_format="gmsh")
     except Exception as e:  # meshio raises many types
@@ -71,7 +75,11 @@ def main():
     ddir, base = os.path.split(dst)
     stem = os.path.splitext(base)[0]
     cwd = os.getcwd()
-    os.chdir(ddir)
+    try:
+        os.makedirs(ddir, exist_ok=True)  # as the C++ stages do
+        os.chdir(ddir)
+    except OSError as e:
+        sys.exit(f"msh_to_vtu: {dst}: cannot write in {ddir}: {e.strerror}")
     try:
         with meshio.xdmf.TimeSeriesWriter(stem + ".tmp.xdmf") as w:
             w.write_points_cells(mesh.points, cells)

@@ -248,6 +248,19 @@ TEST(solve_cli, good_run_writes_results_state_and_histories) {
   EXPECT_EQ(count(err, "\n"), 1) << err;
   EXPECT_EQ(c.read("out.txt"), "");
   EXPECT_FALSE(fs::exists(c.dir + "/out/not.xdmf"));
+  // an output named .vtu: refused (the time series was written there and then replaced by the
+  // last frame, exit 0)
+  EXPECT_NE(c.sh(std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/solve/msh_to_vtu.py " + c.dir +
+                 "/out/results.msh " + c.dir + "/vtu/f.vtu"),
+            0);
+  EXPECT_NE(c.read("err.txt").find("f.vtu: the output must be named .xdmf"), std::string::npos) << c.read("err.txt");
+  EXPECT_FALSE(fs::exists(c.dir + "/vtu"));
+  // a missing input: one line (meshio's own ReadError had escaped read_mesh_or_raise's contract)
+  EXPECT_NE(c.sh(std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/solve/msh_to_vtu.py " + c.dir + "/none.msh " +
+                 c.dir + "/out/none.xdmf"),
+            0);
+  EXPECT_EQ(c.read("err.txt"), "msh_to_vtu: " + c.dir + "/none.msh: cannot read: [Errno 2] no such file: '" + c.dir +
+                                   "/none.msh'\n");
 }
 
 TEST(solve_cli, bad_deck_one_error_line_no_results) {
