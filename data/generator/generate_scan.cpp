@@ -23,6 +23,7 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
     throw usage("give either --from-mesh PATH or --kind head|respirator (with --id and --params)");
   Triangles tri;
   std::vector<Hole> model_holes;
+  std::string rim_note;
   if (from_mesh) {
     const pipeline::Scan scan = pipeline::read_scan(rq.mesh_path);
     if (!scan.is_mesh) throw pipeline::bad_input(rq.mesh_path, "is a point cloud, expected a mesh to scan");
@@ -36,7 +37,15 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
   } else if (rq.kind == "respirator") {
     HeadParams face;
     const RespiratorParams p = read_respirator_params(rq.params_path, rq.id, &face);
-    tri = make_respirator(p, HeadShape(face));
+    RimSize rim;
+    tri = make_respirator(p, HeadShape(face), &rim);
+    using pipeline::format_number;
+    const auto mm = [](double v) { return format_number(std::round(10 * v) / 10); };
+    rim_note = "rim " + mm(rim.width) + " x " + mm(rim.height) + " mm as built (design " + mm(p.width) + " x " +
+               mm(p.height) + ")";
+    if (rim.width < p.width - 2 || rim.height < p.height - 2)
+      rim_note += ": the rim stays on the front of the average face, between " + mm(p.nose_drop) +
+                  " mm below its sellion and 2 mm above its menton";
   } else {
     throw usage("--kind: expected 'head' or 'respirator', got '" + rq.kind + "'");
   }
@@ -64,6 +73,7 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
   Rng rng(rq.seed);
   out.cloud = scan_surface(tri, opt, rng, &out.holes);
   if (rq.want_clean_mesh) out.clean_mesh = surface_mesh_of(tri);
+  out.rim_note = rim_note;
   return out;
 }
 

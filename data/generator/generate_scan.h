@@ -37,6 +37,9 @@ struct GeneratedScan {
   pipeline::PointCloud cloud;      ///< the simulated scan [mm], no normals
   pipeline::SurfaceMesh clean_mesh;///< the surface that was scanned (if requested)
   std::vector<Hole> holes;         ///< every hole made
+  /// For a generated respirator: what the rim's size came to against the design, e.g. "rim
+  /// 111.1 x 106.9 mm as built (design 128 x 118: ...)"; empty otherwise.
+  std::string rim_note;
 };
 
 /// Builds the surface and scans it. Same request → same cloud, bit for bit.

@@ -42,7 +42,7 @@ RespiratorParams read_respirator_params(const std::string& path, const std::stri
   return p;
 }
 
-Triangles make_respirator(const RespiratorParams& p, const HeadShape& face) {
+Triangles make_respirator(const RespiratorParams& p, const HeadShape& face, RimSize* rim) {
   const HeadDimensions d = measure_head(face.mesh(6), "average face");
   const double y_top = d.sellion.y() - p.nose_drop;
   const double y_bot = std::max(y_top - p.height, d.menton.y() + 2.0);  // stays on the chin front
@@ -100,6 +100,14 @@ Triangles make_respirator(const RespiratorParams& p, const HeadShape& face) {
     z_rim[j] = z_rim[(M - j) % M] = face_z(std::abs(x), y);
   }
   auto grid = [&](int i, int j) { return outline(double(i) / N * reach[(j + M) % M], 2 * pi * j / M); };
+  if (rim) {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (int j = 0; j < M; ++j) {
+      const auto [x, y] = grid(N, j);
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+    *rim = {x1 - x0, y1 - y0};
+  }
   // Interior base height: rim heights blended toward their mean at the centre.
   double z_mean = 0;
   for (double z : z_rim) z_mean += z / M;

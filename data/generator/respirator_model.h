@@ -32,7 +32,15 @@ struct RespiratorParams {
 RespiratorParams read_respirator_params(const std::string& path, const std::string& id,
                                         HeadParams* face);
 
-/// Builds the closed shell on `face`. @throws Error(algorithm) if the rim misses the face.
-Triangles make_respirator(const RespiratorParams& p, const HeadShape& face);
+/// The rim as built [mm]: its breadth in x and its height in y, seen from the front.
+struct RimSize {
+  double width = 0, height = 0;
+};
+
+/// Builds the closed shell on `face`; `rim` (optional) gets the rim's size as built, which falls
+/// short of p.width and p.height where the face does not reach: the rim stays on the front of
+/// the face (normal·z ≥ 0.35) and between 5 mm below the sellion and 2 mm above the menton (on
+/// the average face at most ~107 mm high). @throws Error(algorithm) if the rim misses the face.
+Triangles make_respirator(const RespiratorParams& p, const HeadShape& face, RimSize* rim = nullptr);
 
 }  // namespace generator

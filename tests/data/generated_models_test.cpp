@@ -133,3 +133,24 @@ TEST(respirator_model, shell_is_closed_symmetric_and_in_front_of_the_face) {
   EXPECT_NEAR(xmin, -xmax, 1e-6);  // symmetric about x = 0 by construction
   EXPECT_LE(xmax - xmin, p.width + 1e-6);
 }
+
+// The rim's size as built is reported: the face bounds it (the rim stays on the front of the
+// face, above the chin), so the default cups' designs of 104-128 mm height all came out 104-106
+// mm high without a word. A design within the face is built to its height, and to the egg
+// outline's breadth, 0.923 of the design width (the egg narrows toward the nose; at mid-height
+// it is 0.72 + 0.28·√½ = 0.918 of it, a little below it 0.923); one beyond the face is smaller.
+TEST(respirator_model, the_rim_size_as_built_is_reported) {
+  HeadParams face;
+  auto p = read_respirator_params(std::string(SOURCE_DIR) + "/data/generator/respirators.json", "onesize", &face);
+  const HeadShape head(face);
+  RimSize rim;
+  make_respirator(p, head, &rim);
+  std::printf("onesize rim: %.1f x %.1f mm as built, design %.0f x %.0f\n", rim.width, rim.height, p.width, p.height);
+  EXPECT_LE(rim.width, p.width + 1e-6);
+  EXPECT_LT(rim.height, p.height - 10);  // 118 mm does not fit between the sellion and the chin
+  p.width = 100, p.height = 90;
+  make_respirator(p, head, &rim);
+  std::printf("100 x 90 design: %.1f x %.1f mm as built\n", rim.width, rim.height);
+  EXPECT_NEAR(rim.width, 92.3, 0.5);
+  EXPECT_NEAR(rim.height, 90, 1.0);
+}
