@@ -1,9 +1,11 @@
 #include "pipeline/cli.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -76,6 +78,22 @@ Cli& Cli::option(const std::string& s, const std::string& l, int* value, const s
   o.get = [value] { return std::to_string(*value); };
   if (min > std::numeric_limits<int>::min() || max < std::numeric_limits<int>::max())
     o.range = std::to_string(min) + " to " + std::to_string(max);
+  opts_.push_back(o);
+  return *this;
+}
+
+Cli& Cli::option(const std::string& s, const std::string& l, std::uint64_t* value, const std::string& help) {
+  Opt o{s, l, help};
+  o.set = [value, l](const std::string& v) {
+    const bool digits = !v.empty() && v.size() <= 20 && v.find_first_not_of("0123456789") == std::string::npos;
+    errno = 0;
+    const unsigned long long n = digits ? std::strtoull(v.c_str(), nullptr, 10) : 0;
+    if (!digits || errno == ERANGE)
+      throw Error(ErrorKind::usage, l + ": expected a whole number from 0 to " +
+                                        std::to_string(std::numeric_limits<std::uint64_t>::max()) + ", got '" + v + "'");
+    *value = n;
+  };
+  o.get = [value] { return std::to_string(*value); };
   opts_.push_back(o);
   return *this;
 }

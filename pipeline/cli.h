@@ -7,6 +7,7 @@
 ///   cli.option("-i", "--in", &in, "input mesh (PLY/STL/OBJ/OFF)", pipeline::required);
 ///   cli.option("-e", "--edge", &edge_mm, "target edge length [mm]", 0.05, 50.0);
 ///   return pipeline::run_main(cli, argc, argv, [&] { ...; return 0; });
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
@@ -31,6 +32,10 @@ class Cli {
   Cli& option(const std::string& short_flag, const std::string& long_flag, int* value,
               const std::string& help, int min = std::numeric_limits<int>::min(),
               int max = std::numeric_limits<int>::max());
+  /// A whole-number option of the full 64-bit range (a random seed): digits only, read exactly
+  /// (through a double, 2^53 + 1 read as 2^53 and 1.5 as 1).
+  Cli& option(const std::string& short_flag, const std::string& long_flag, std::uint64_t* value,
+              const std::string& help);
   /// A boolean switch (no argument).
   Cli& flag(const std::string& short_flag, const std::string& long_flag, bool* value,
             const std::string& help);

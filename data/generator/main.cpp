@@ -20,7 +20,7 @@
 int main(int argc, char** argv) {
   generator::GenerateRequest rq;
   std::string out, clean_mesh, holes_out, holes_diam = "10:20", noise_dir = "normal";
-  double seed = 1;
+  std::uint64_t seed = 1;
   pipeline::Cli cli("generate_scan",
                     "Simulates a structured-light scan (noise, holes, outliers, spikes) of a generated "
                     "headform or respirator (--kind, --id and --params), or of a given mesh (--from-mesh).");
@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
       .option("-r", "--holes", &rq.random_holes, "random holes besides the model's own (-1: 0 for a mesh, 1 for a model)", -1, 1000)
       .option("-R", "--hole-diameter-mm", &holes_diam, "random hole diameter range MIN:MAX [mm], at most 100")
       .flag("-0", "--no-model-holes", &rq.no_model_holes, "generated models: no holes under the chin / in the ears")
-      .option("-S", "--seed", &seed, "random seed (same seed, same bytes)", 0, 9007199254740992.0);
+      .option("-S", "--seed", &seed, "random seed, a whole number (same seed, same bytes)");
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--params", rq.params_path}, {"--from-mesh", rq.mesh_path}, {"--out", out},
                                       {"--clean-mesh", clean_mesh}, {"--holes-out", holes_out}});
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     pipeline::require_extension("--out", out, pipeline::point_cloud_extensions);
     if (!clean_mesh.empty()) pipeline::require_extension("--clean-mesh", clean_mesh, pipeline::surface_mesh_extensions);
     if (!holes_out.empty()) pipeline::require_extension("--holes-out", holes_out, {".json"});  // it writes JSON
-    rq.seed = static_cast<std::uint64_t>(seed);
+    rq.seed = seed;
     generator::parse_hole_diameters(holes_diam, &rq.hole_diameter_min_mm, &rq.hole_diameter_max_mm);
     rq.noise_direction = generator::parse_noise_direction(noise_dir);
     pipeline::require_writable_outputs({out, clean_mesh, holes_out});
