@@ -22,6 +22,9 @@
 //   ratio. m* tends to the master mass (the paper's choice) when the slave is heavier and to the
 //   slave mass against a heavy or rigid master. A node with zero mass (kinematic) is treated as
 //   infinitely heavy. m_M is continuous across master edges, so k does not jump as a point slides.
+//   Δt is the solver's contact step (Solver::contact_dt): the time step, except where elements
+//   held by `fixed` are left out of the time step. The stiffness keeps the step of every
+//   element then, and the solver limits the longer time step to ω·dt ≤ √(1 + ξ²) − ξ.
 // - Gap: distance to the closest point of the master surface. Interior edges and vertices
 //   (where the closest point of a penetrating node in a valley lies) push along (c − p)/|c − p|,
 //   the gradient of the distance, so facets leave no gap; the inside/outside sign comes from the
@@ -218,7 +221,7 @@ void ContactPair::set_history(const std::vector<double>& h) {
 }
 
 void ContactPair::add_forces(const double* x, const double* v, const double* mass, double dt,
-                             double* f) {
+                             double dt_stiffness, double* f) {
   const std::size_t nt = tri_local_.size(), nm = master_nodes_.size(), ns = spec_.slave_nodes.size();
   auto X = [&](int local_node) { return x + 3 * std::size_t(master_nodes_[std::size_t(local_node)]); };
   // 1. Facet normals and areas, pseudo-normals and tributary areas in the current configuration.
@@ -334,7 +337,7 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
   contact.resize(np);
   point_area.resize(np);
   const double s_pen = spec_.penalty_scale, xi = spec_.damping_ratio, mu = spec_.friction;
-  const double omega = std::sqrt(s_pen) / dt, boundary_tol = 0.1 * edge_length_;
+  const double omega = std::sqrt(s_pen) / dt_stiffness, boundary_tol = 0.1 * edge_length_;
   const bool two_sided = spec_.two_sided;
 #pragma omp parallel for schedule(dynamic, 256) if (long(np) > internal::kMinParallel)
   for (long js = 0; js < long(np); ++js) {
@@ -442,7 +445,7 @@ void ContactPair::add_forces(const double* x, const double* v, const double* mas
     double m_red = m_slave > 0 && m_master > 0 ? m_slave * m_master / (m_slave + m_master)
                                                : std::max(m_slave, m_master);
     if (!(m_red > 0)) continue;
-    const double k_pen = s_pen * m_red / (dt * dt);
+    const double k_pen = s_pen * m_red / (dt_stiffness * dt_stiffness);
     Vec v_rel{0, 0, 0};
     for (int k = 0; k < 3; ++k)
       if (pt.node[std::size_t(k)] >= 0) {

@@ -45,8 +45,15 @@ class ContactPair {
   /// @param[in]     v     current velocities, n_nodes×3 [mm/ms]
   /// @param[in]     mass  lumped nodal masses, n_nodes [g]
   /// @param[in]     dt    global time step [ms]
+  /// @param[in]     dt_stiffness  the step the penalty is set with, k = s·m*/dt_stiffness² [ms]:
+  ///                      the step of every element, held or not (Solver::contact_dt), so that a
+  ///                      stage that holds the head presses as hard as one that frees it
   /// @param[in,out] f     nodal forces, n_nodes×3 [N]; contact forces are added (slave and master sides)
-  void add_forces(const double* x, const double* v, const double* mass, double dt, double* f);
+  void add_forces(const double* x, const double* v, const double* mass, double dt, double dt_stiffness, double* f);
+  /// The same with the penalty set by the time step itself (dt_stiffness = dt).
+  void add_forces(const double* x, const double* v, const double* mass, double dt, double* f) {
+    add_forces(x, v, mass, dt, dt, f);
+  }
 
   /// Normal contact pressure per node after the last add_forces, [MPa]: normal contact force
   /// gathered on the master nodes divided by their tributary area (1/3 of the adjacent facets;

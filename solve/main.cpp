@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
     // 1. Load and check the model.
     solve::Model model = solve::load_model(msh, deck);
     if (end_time_ms > 0) model.control.end_time = end_time_ms;
-    solve::require_inputs_apart_from_outputs(opt.out_dir, msh, deck, solve::starting_state_file(model, opt));
+    solve::require_inputs_apart_from_outputs(opt.out_dir, msh, deck, solve::starting_state_file(model, opt),
+                                             !opt.restart.empty());
     // 2. Run; outputs are written atomically by run().
     const solve::RunSummary s = solve::run(model, opt);
     using pipeline::format_number;

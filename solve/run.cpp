@@ -113,7 +113,8 @@ std::string starting_state_file(const Model& m, const RunOptions& opt) {
 }
 
 void require_inputs_apart_from_outputs(const std::string& out_dir, const std::string& model_path,
-                                       const std::string& deck_path, const std::string& started_from) {
+                                       const std::string& deck_path, const std::string& started_from,
+                                       bool continues_in_place) {
   std::vector<std::string> outputs;
   for (const char* f : sound_run_files) outputs.push_back((std::filesystem::path(out_dir) / f).string());
   for (const char* f : diverged_run_files) outputs.push_back((std::filesystem::path(out_dir) / f).string());
@@ -125,6 +126,16 @@ void require_inputs_apart_from_outputs(const std::string& out_dir, const std::st
   check("--model", model_path, false);
   check("--deck", deck_path, false);
   check("the starting state", started_from, true);
+  // A new stage started from the deck's initial_state in the folder that holds that state (stage
+  // II with --out-dir stage1) deleted the earlier stage's results as it started and replaced its
+  // state.bin at the end, exit 0; the next stage II run then began from stage II's own state.
+  const std::string state_out = (std::filesystem::path(out_dir) / "state.bin").string();
+  std::error_code ec;
+  if (!continues_in_place && !started_from.empty() && std::filesystem::equivalent(state_out, started_from, ec))
+    throw pipeline::Error(pipeline::ErrorKind::usage,
+                          "--out-dir " + out_dir + " holds " + state_out + ", the state this deck's initial_state starts "
+                          "from: a run there would delete that stage's results and replace its state; give this stage "
+                          "a folder of its own (--restart continues a run in place)");
 }
 
 RunSummary run(const Model& model, const RunOptions& opt) {
@@ -185,7 +196,10 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   pipeline::log("solve", std::to_string(m.n_nodes()) + " nodes, " + std::to_string(n_elem) + " elements, " +
                              std::to_string(m.contacts.size()) + " contact pair(s); stable dt " +
                              fmt(s.stable_dt()) + " ms (part " + (s.step_limiting_part().empty() ? "none" : s.step_limiting_part()) +
-                             "), dt " + fmt(s.dt()) + " ms, " + fmt(std::ceil(steps_needed)) + " steps; mass " + fmt(s.total_mass()) +
+                             "), dt " + fmt(s.dt()) + " ms" +
+                             (s.contact_dt() != s.dt() ? " (held elements left out; contact stiffness at the step of every element, " +
+                                                             fmt(s.contact_dt()) + " ms)" : "") +
+                             ", " + fmt(std::ceil(steps_needed)) + " steps; mass " + fmt(s.total_mass()) +
                              " g, added by mass scaling " + fmt(s.added_mass()) + " g (" +
                              fmt(100 * s.added_mass() / std::max(1e-300, s.physical_mass())) +
                              " %); threads " + std::to_string(omp_get_max_threads()));

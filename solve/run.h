@@ -45,11 +45,13 @@ RunSummary run(const Model& m, const RunOptions& opt);
 /// Checks, before any work, that no input is a file run() writes or removes in `out_dir`: a
 /// model copied into the output folder as results.msh was deleted by a diverging run and
 /// overwritten by a sound one. The state a run starts from (`started_from`: --restart, else the
-/// deck's initial_state) may be out_dir's state.bin, which continues a run in place (run() keeps
-/// it when it fails); it may not be another output.
+/// deck's initial_state) may be out_dir's state.bin when the run continues in place (--restart,
+/// `continues_in_place`; run() keeps it when it fails); it may not be another output, and a new
+/// stage started from the deck's initial_state may not write into the folder of that state.
 /// @throws pipeline::Error(usage) "--model 'out/results.msh' is the same file as the output
 ///         out/results.msh: ..." (pipeline::require_distinct_files).
 void require_inputs_apart_from_outputs(const std::string& out_dir, const std::string& model_path,
-                                       const std::string& deck_path, const std::string& started_from);
+                                       const std::string& deck_path, const std::string& started_from,
+                                       bool continues_in_place);
 
 }  // namespace solve

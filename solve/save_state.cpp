@@ -11,8 +11,10 @@
 
 namespace solve {
 namespace {
-// v2 adds the contact history after the v1 content; v1 files (no contact history) still load.
-const char kMagic[16] = "SOLVE_STATE_v2\n";
+// v2 adds the contact history after the v1 content; v3 the contact step after the eight
+// scalars. v1 and v2 files still load (no contact history; the contact step is the step).
+const char kMagic[16] = "SOLVE_STATE_v3\n";
+const char kMagicV2[16] = "SOLVE_STATE_v2\n";
 const char kMagicV1[16] = "SOLVE_STATE_v1\n";
 
 void put_vec(std::ofstream& o, const std::vector<double>& v) {
@@ -26,8 +28,8 @@ void save_state(const std::string& path, const SolverState& s) {
   pipeline::write_atomic(path, [&](const std::string& tmp) {
     std::ofstream o(tmp, std::ios::binary);
     o.write(kMagic, sizeof kMagic);
-    const double scalars[8] = {s.time, s.dt, double(s.step), s.e_contact, s.e_damping, s.w_external, s.e_initial,
-                               s.e_initial_set ? 1.0 : 0.0};
+    const double scalars[9] = {s.time, s.dt, double(s.step), s.e_contact, s.e_damping, s.w_external, s.e_initial,
+                               s.e_initial_set ? 1.0 : 0.0, s.dt_contact};
     o.write(reinterpret_cast<const char*>(scalars), sizeof scalars);
     put_vec(o, s.X);
     put_vec(o, s.x);
@@ -50,10 +52,12 @@ SolverState load_state(const std::string& path) {
   char magic[16];
   in.read(magic, sizeof magic);
   const bool v1 = in && std::memcmp(magic, kMagicV1, sizeof magic) == 0;
-  if (!in || (!v1 && std::memcmp(magic, kMagic, sizeof magic) != 0))
+  const bool v2 = in && std::memcmp(magic, kMagicV2, sizeof magic) == 0;
+  if (!in || (!v1 && !v2 && std::memcmp(magic, kMagic, sizeof magic) != 0))
     throw pipeline::bad_input(path, "not a solve state file (bad header)");
-  double sc[8];
-  in.read(reinterpret_cast<char*>(sc), sizeof sc);
+  double sc[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  const std::size_t n_scalars = v1 || v2 ? 8 : 9;
+  in.read(reinterpret_cast<char*>(sc), std::streamsize(n_scalars * sizeof(double)));
   if (!in) throw pipeline::bad_input(path, "truncated state file");
   // A damaged file is refused here, not run: a count past the file's end would allocate up to
   // 32 GB before the read failed, and a NaN position only shows as a "diverged" run (exit 3).
@@ -63,11 +67,12 @@ SolverState load_state(const std::string& path) {
         throw pipeline::bad_input(path, std::string("non-finite value in the state's ") + what + " at index " +
                                             std::to_string(i));
   };
-  check_finite(sc, 8, "time, step and energies");
+  check_finite(sc, n_scalars, "time, step and energies");
   if (!(sc[2] >= 0 && sc[2] < 1e15)) throw pipeline::bad_input(path, "step count " + pipeline::format_number(sc[2]) + " out of range");
   SolverState s;
   s.time = sc[0]; s.dt = sc[1]; s.step = long(sc[2]);
   s.e_contact = sc[3]; s.e_damping = sc[4]; s.w_external = sc[5]; s.e_initial = sc[6]; s.e_initial_set = sc[7] != 0;
+  s.dt_contact = sc[8];
   auto get_vec = [&](std::vector<double>& v, const char* what) {
     std::uint64_t n = 0;
     in.read(reinterpret_cast<char*>(&n), sizeof n);

@@ -1,8 +1,9 @@
 #pragma once
 /// The restart / state file (`state.bin`): what a later run (Stage II after Stage I, or a
 /// restarted run) starts from — reference and current positions, half-step velocities, rigid-body
-/// velocities, time, step, time step, the energy accumulators and the contact history of each
-/// pair (friction stick forces, sides, search state; format v2, v1 files still load without it).
+/// velocities, time, step, time step and the step the contact stiffness is set with, the energy
+/// accumulators and the contact history of each pair (friction stick forces, sides, search
+/// state). Format v3; v2 files load without the contact step, v1 also without the history.
 /// Binary, exact doubles, so a restarted run continues bit-identically to one that never stopped.
 #include <string>
 

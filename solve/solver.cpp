@@ -26,6 +26,14 @@ struct Solver::Impl {
   internal::Constraints con;
   std::vector<ContactPair> pairs;
   double time = 0, dt = 0, dt_stable = 0, added = 0;
+  // The step the contact stiffness k = s·m*/Δt² is set with: dt_scale times the stable step of
+  // every element, held or not (contact.cpp). Equal to dt unless held elements are left out.
+  double dt_contact = 0;
+  // Per block, per element: every node held by `fixed` in x, y and z (empty: none is). Such an
+  // element cannot deform, so it does not bound the step: stage I holds the head and the
+  // respirator while only the straps move, and their elements had set its step (0.0046 ms
+  // against the straps' 0.018 ms).
+  std::vector<std::vector<char>> held;
   std::string step_part;  // the part whose element sets the starting stable step ("" if none)
   double physical = 0;  // summed apart: total − added loses it when added is 1e15 times larger
   long step = 0;
@@ -36,11 +44,32 @@ struct Solver::Impl {
   double e_initial = 0;
   bool e_initial_set = false;
 
-  double compute_stable_dt() const {
+  /// Stable step of the elements in the current state [ms], of all or of those not held.
+  double compute_stable_dt(bool with_held) const {
     double d = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < blocks.size(); ++k)
-      d = std::min(d, internal::stable_dt_for_elems(blocks[k], x.data(), mass_factor[k]));
+      d = std::min(d, internal::stable_dt_for_elems(blocks[k], x.data(), mass_factor[k],
+                                                    with_held || held[k].empty() ? nullptr : &held[k]));
     return d;
+  }
+  /// The step from the stable steps of the elements not held (free) and of all (every) [ms], as
+  /// dt_scale times the free one, but no longer than lets every contact pair's penalty
+  /// oscillator, ω = √s / dt_contact, keep ω·Δt ≤ √(1 + ξ²) − ξ: half the central-difference
+  /// limit 2(√(1 + ξ²) − ξ) with damping ratio ξ, and ω·Δt ≤ 1 undamped, as the penalty alone
+  /// gives at Δt = dt_contact for s ≤ 1 (contact.cpp). The contact stiffness keeps the step of
+  /// every element, held or not, so a stage that holds the head (stage I) presses as hard as the
+  /// next one that frees it: a stiffness from the longer step was 16 times softer in stage I,
+  /// and stage II then began with a 318.6 N jump of the bottom strap's contact force on stage
+  /// I's penetrations (31.8 N at its end; solve/README.md).
+  void choose_step(double stable_free, double stable_every) {
+    dt_stable = stable_free;
+    dt_contact = m.control.dt_scale * stable_every;
+    double dt_max = std::numeric_limits<double>::infinity();
+    for (const auto& c : pairs) {
+      const double s_pen = c.spec().penalty_scale, xi = c.spec().damping_ratio;
+      if (s_pen > 0) dt_max = std::min(dt_max, dt_contact * (std::sqrt(1 + xi * xi) - xi) / std::sqrt(s_pen));
+    }
+    dt = std::min(m.control.dt_scale * stable_free, std::max(dt_contact, dt_max));
   }
   double internal_energy() const {
     double w = 0;
@@ -60,22 +89,39 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
   s.x = m.X;
   s.v.assign(3 * s.n, 0.0);
   s.mass.assign(s.n, 0.0);
-  // 1. Elements, masses (with optional mass scaling to control.dt_target).
+  // 1. Elements, masses (with optional mass scaling to control.dt_target), held elements.
+  std::vector<char> fixed_dofs(s.n, 0);  // bit d: dof d held by `fixed`
+  for (const auto& bc : m.bcs)
+    if (bc.kind == BcKind::fixed)
+      for (int id : m.group(bc.group)) fixed_dofs[std::size_t(id)] |= char(1 << bc.dof);
   std::size_t off = 0;
-  double dt_min = std::numeric_limits<double>::infinity();
+  double dt_free = std::numeric_limits<double>::infinity(), dt_every = dt_free;
   for (std::size_t k = 0; k < m.parts.size(); ++k) {
     const Part& part = m.parts[k];
     ElementBlock b = internal::setup_block(part, int(k), m.materials[part.material], m.X.data(),
                                            m.control.hourglass, m.name);
     b.force_offset = off;
     off += b.size() * b.nn * 3;
+    std::vector<char> held;
+    if (!b.rigid) {
+      held.assign(b.size(), 0);
+      bool any = false;
+      for (std::size_t e = 0; e < b.size(); ++e) {
+        bool all = true;
+        for (int a = 0; a < b.nn && all; ++a) all = fixed_dofs[std::size_t(b.conn[e * b.nn + a])] == 7;
+        held[e] = char(all);
+        any = any || all;
+      }
+      if (!any) held.clear();
+    }
+    const auto is_held = [&](std::size_t e) { return !held.empty() && held[e]; };
     std::vector<double> edt = internal::element_dt(b, m.X.data());
     std::vector<double> factor;
     if (m.control.dt_target > 0 && !b.rigid) {
       factor.assign(b.size(), 1.0);
       for (std::size_t e = 0; e < b.size(); ++e) {
         const double ok = m.control.dt_scale * edt[e];
-        if (ok < m.control.dt_target) factor[e] = (m.control.dt_target / ok) * (m.control.dt_target / ok);
+        if (ok < m.control.dt_target && !is_held(e)) factor[e] = (m.control.dt_target / ok) * (m.control.dt_target / ok);
       }
     }
     for (std::size_t e = 0; e < b.size(); ++e) {
@@ -85,10 +131,12 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
       s.physical += me;
       for (int a = 0; a < b.nn; ++a) s.mass[b.conn[e * b.nn + a]] += me * f / b.nn;
       const double dt_e = edt[e] * std::sqrt(f);
-      if (dt_e < dt_min) dt_min = dt_e, s.step_part = part.name;
+      dt_every = std::min(dt_every, dt_e);
+      if (dt_e < dt_free && !is_held(e)) dt_free = dt_e, s.step_part = part.name;
     }
     s.blocks.push_back(std::move(b));
     s.mass_factor.push_back(std::move(factor));
+    s.held.push_back(std::move(held));
   }
   s.fe.assign(off, 0.0);
   // 2. Node → element-force incidences (fixed order: block, element, local node).
@@ -103,12 +151,6 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
     if (!b.rigid)
       for (std::size_t k = 0; k < b.conn.size(); ++k)
         s.node_inc[fill[b.conn[k]]++] = long(b.force_offset + 3 * k);
-  s.dt_stable = dt_min;
-  if (!std::isfinite(dt_min)) {
-    // only rigid parts: the step is bounded by contact / loads; take the target or 1e-3 ms
-    s.dt_stable = m.control.dt_target > 0 ? m.control.dt_target : 1e-3;
-  }
-  s.dt = m.control.dt_target > 0 ? m.control.dt_target : m.control.dt_scale * s.dt_stable;
   s.fint.assign(3 * s.n, 0.0);
   s.fext.assign(3 * s.n, 0.0);
   s.fcon.assign(3 * s.n, 0.0);
@@ -141,6 +183,17 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
     spec.friction = c.friction;
     spec.two_sided = c.two_sided;
     s.pairs.emplace_back(std::move(spec), s.n);
+  }
+  // 6. The step.
+  if (!std::isfinite(dt_every)) {
+    // only rigid parts: the step is bounded by contact / loads; take the target or 1e-3 ms
+    s.dt_stable = m.control.dt_target > 0 ? m.control.dt_target : 1e-3;
+    s.dt = s.dt_contact = m.control.dt_target > 0 ? m.control.dt_target : m.control.dt_scale * s.dt_stable;
+  } else if (m.control.dt_target > 0) {
+    s.dt_stable = std::isfinite(dt_free) ? dt_free : dt_every;
+    s.dt = s.dt_contact = m.control.dt_target;
+  } else {
+    s.choose_step(dt_free, dt_every);
   }
 }
 
@@ -176,7 +229,7 @@ void Solver::step() {
   double pen = 0;
   const ContactPair* deepest = nullptr;
   for (auto& c : s.pairs) {
-    c.add_forces(s.x.data(), s.v.data(), s.mass.data(), dt, s.fcon.data());
+    c.add_forces(s.x.data(), s.v.data(), s.mass.data(), dt, s.dt_contact, s.fcon.data());
     if (c.max_penetration() > pen) {
       pen = c.max_penetration();
       deepest = &c;
@@ -256,11 +309,8 @@ void Solver::step() {
               "', slave point at " + xyz + " mm)";
   }
   if (m.control.dt_target <= 0 && s.step % m.control.dt_update_interval == 0 && health_.empty()) {
-    const double d = s.compute_stable_dt();  // +inf when only rigid parts: keep the step
-    if (std::isfinite(d)) {
-      s.dt_stable = d;
-      s.dt = m.control.dt_scale * d;
-    }
+    const double every = s.compute_stable_dt(true);  // +inf when only rigid parts: keep the step
+    if (std::isfinite(every)) s.choose_step(s.compute_stable_dt(false), every);
   }
 }
 
@@ -273,6 +323,7 @@ double Solver::time() const { return p_->time; }
 double Solver::dt() const { return p_->dt; }
 long Solver::steps() const { return p_->step; }
 double Solver::stable_dt() const { return p_->dt_stable; }
+double Solver::contact_dt() const { return p_->dt_contact; }
 const std::string& Solver::step_limiting_part() const { return p_->step_part; }
 double Solver::added_mass() const { return p_->added; }
 double Solver::physical_mass() const { return p_->physical; }
@@ -347,6 +398,7 @@ SolverState Solver::state() const {
   SolverState st;
   st.time = s.time;
   st.dt = s.dt;
+  st.dt_contact = s.dt_contact;
   st.step = s.step;
   st.X = s.X;
   st.x = s.x;
@@ -387,15 +439,15 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
   if (!reset_time) {
     s.time = st.time;
     s.step = st.step;
-    if (st.dt > 0) s.dt = st.dt;
+    if (st.dt > 0) s.dt = st.dt, s.dt_contact = st.dt_contact > 0 ? st.dt_contact : st.dt;
     s.w_contact = st.e_contact;
     s.w_damping = st.e_damping;
     s.w_external = st.w_external;
     s.e_initial = st.e_initial;
     s.e_initial_set = st.e_initial_set;
   } else {
-    s.dt_stable = s.compute_stable_dt();
-    if (s.m.control.dt_target <= 0 && std::isfinite(s.dt_stable)) s.dt = s.m.control.dt_scale * s.dt_stable;
+    const double every = s.compute_stable_dt(true);
+    if (s.m.control.dt_target <= 0 && std::isfinite(every)) s.choose_step(s.compute_stable_dt(false), every);
   }
   if (reset_velocity) {
     std::fill(s.v.begin(), s.v.end(), 0.0);

@@ -43,6 +43,7 @@ struct Energies {
 /// Everything a later run needs to continue exactly (the restart file content).
 struct SolverState {
   double time = 0, dt = 0;
+  double dt_contact = 0;  ///< the step the contact stiffness is set with (0: not saved, dt) [ms]
   long step = 0;
   std::vector<double> X, x, v;           ///< #nodes×3 reference positions, positions, v_{n−½}
   std::vector<double> rigid;             ///< per rigid body: V (3), ω (3)
@@ -78,7 +79,11 @@ class Solver {
   double time() const;
   double dt() const;
   long steps() const;
-  double stable_dt() const;          ///< stable step from the elements (before dt_scale) [ms]
+  double stable_dt() const;          ///< stable step from the elements not held (before dt_scale) [ms]
+  /// The step the contact stiffness k = s·m*/Δt² is set with [ms]: dt_scale times the stable
+  /// step of every element, held by `fixed` or not; dt() is longer where held elements alone
+  /// bounded the step (up to the contact pairs' limit, solver.cpp choose_step).
+  double contact_dt() const;
   /// The part whose element set the stable step at the start ("" when only rigid parts): the one
   /// to look at when a run needs far more steps than expected (an E in Pa read as MPa).
   const std::string& step_limiting_part() const;

@@ -239,13 +239,15 @@ std::vector<double> element_dt(const ElementBlock& blk, const double* X) {
   return dt;
 }
 
-double stable_dt_for_elems(const ElementBlock& blk, const double* x, const std::vector<double>& mass_factor) {
+double stable_dt_for_elems(const ElementBlock& blk, const double* x, const std::vector<double>& mass_factor,
+                           const std::vector<char>* skip) {
   double dtmin = std::numeric_limits<double>::infinity();
   if (blk.rigid) return dtmin;
   const long ne = long(blk.size());
   const int nn = blk.nn, d = blk.dim;
 #pragma omp parallel for schedule(static) if (ne > kMinParallel) reduction(min : dtmin)
   for (long e = 0; e < ne; ++e) {
+    if (skip && (*skip)[std::size_t(e)]) continue;
     double F[3][3];
     mean_F(blk, e, x, F);
     double bb = 0, J = 1;

@@ -62,8 +62,10 @@ void von_mises_for_elems(const ElementBlock& blk, const double* x, double* vm);
 
 /// Stable time step bound of the block (min over elements of 2/ω_max, ω_max from a Gershgorin-type
 /// bound of the element stiffness over the lumped mass) in state x [ms]; +inf for rigid blocks.
-/// `mass_factor` (#e, or empty) multiplies element mass (mass scaling).
-double stable_dt_for_elems(const ElementBlock& blk, const double* x, const std::vector<double>& mass_factor);
+/// `mass_factor` (#e, or empty) multiplies element mass (mass scaling). Elements with
+/// `skip[e]` != 0 (`skip` #e, or null) are left out: +inf if every element is.
+double stable_dt_for_elems(const ElementBlock& blk, const double* x, const std::vector<double>& mass_factor,
+                           const std::vector<char>* skip = nullptr);
 
 /// Per-element stable step in the reference state (for mass scaling), #e [ms].
 std::vector<double> element_dt(const ElementBlock& blk, const double* X);

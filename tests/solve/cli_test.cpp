@@ -161,6 +161,23 @@ TEST(solve_cli, an_input_named_as_an_output_in_the_out_dir_is_refused_and_kept) 
   EXPECT_NE(c.read("err.txt").find("--deck '"), std::string::npos) << c.read("err.txt");
   EXPECT_EQ(c.read("kept/energy.csv"), deck(1.0));
   EXPECT_FALSE(fs::exists(c.dir + "/kept/state.bin"));
+  // A next stage run into the folder of the state its deck starts from (stage II with --out-dir
+  // stage1): refused, the earlier stage's results and state kept. It had deleted them and
+  // replaced state.bin with its own, exit 0. --restart still continues a run in place.
+  ASSERT_EQ(c.solve("deck.json", "stage1"), 0) << c.read("err.txt");
+  const std::string state = c.read("stage1/state.bin"), results = c.read("stage1/results.msh");
+  std::string next = deck(2.0);
+  next.replace(next.find("\"control\""), 0, "\"initial_state\": {\"file\": \"stage1/state.bin\", \"reset_time\": true},\n  ");
+  c.write("next.json", next);
+  EXPECT_EQ(c.solve("next.json", "stage1"), 1);
+  EXPECT_NE(c.read("err.txt").find("holds " + c.dir + "/stage1/state.bin, the state this deck's initial_state starts from"),
+            std::string::npos)
+      << c.read("err.txt");
+  EXPECT_EQ(c.read("stage1/state.bin"), state);
+  EXPECT_EQ(c.read("stage1/results.msh"), results);
+  EXPECT_EQ(c.solve("next.json", "stage2"), 0) << c.read("err.txt");
+  EXPECT_EQ(c.solve("deck.json", "stage1", "--restart " + c.dir + "/stage1/state.bin --end-time-ms 1.5"), 0)
+      << c.read("err.txt");
 }
 
 // An output interval far below the time step looped ~1e9 times a step to find the next output

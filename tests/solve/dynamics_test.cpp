@@ -210,16 +210,24 @@ TEST(save_state, damaged_state_files_are_bad_input) {
   EXPECT_EQ(message_of("cut.bin", bytes.substr(0, bytes.size() / 2)), "truncated state file");
   EXPECT_EQ(message_of("joined.bin", bytes + bytes), std::to_string(bytes.size()) +
                                                          " bytes after the end of the state (two files joined?)");
-  // The layout: 16-byte magic, 8 scalars, then each vector as a count and its doubles (X, x, v, ...).
-  const std::size_t n_X = b.state().X.size(), x_at = 16 + 8 * 8 + 8 + 8 * n_X + 8;
+  // The layout: 16-byte magic, 9 scalars, then each vector as a count and its doubles (X, x, v, ...).
+  const std::size_t n_X = b.state().X.size(), x_at = 16 + 9 * 8 + 8 + 8 * n_X + 8;
   std::string nan_position = bytes;
   const double nan = std::nan("");
   std::memcpy(&nan_position[x_at + 8 * 5], &nan, 8);
   EXPECT_EQ(message_of("nan.bin", nan_position), "non-finite value in the state's positions at index 5");
   std::string huge_count = bytes;
   const std::uint64_t count = std::uint64_t(1) << 31;
-  std::memcpy(&huge_count[16 + 8 * 8], &count, 8);
+  std::memcpy(&huge_count[16 + 9 * 8], &count, 8);
   EXPECT_EQ(message_of("huge.bin", huge_count), "truncated state file");
+  // A v2 file (8 scalars, no contact step) still loads; its contact step is its step.
+  std::string v2 = bytes.substr(0, 16 + 8 * 8) + bytes.substr(16 + 9 * 8);
+  v2[13] = '2';
+  EXPECT_EQ(message_of("v2.bin", v2), "no error");
+  const solve::SolverState old_state = solve::load_state(dir + "/v2.bin");
+  EXPECT_EQ(old_state.dt, b.state().dt);
+  EXPECT_EQ(old_state.dt_contact, 0.0);
+  EXPECT_EQ(old_state.x, b.state().x);
 }
 
 // Results do not depend on the thread count: element forces go to private arrays and are gathered
@@ -500,6 +508,67 @@ TEST(stable_step, the_part_that_sets_it_is_named) {
   const solve::Solver both(m);
   EXPECT_EQ(both.step_limiting_part(), m.parts.back().name);
   EXPECT_NE(both.step_limiting_part().find("stiff"), std::string::npos) << both.step_limiting_part();
+}
+
+// Elements whose every node `fixed` holds in x, y and z cannot deform, and no longer bound the
+// step: stage I of medium_onesize holds the head and the respirator, whose elements set its step
+// at a quarter of the straps'. The contact stiffness keeps the step of every element, so the
+// same base held by a prescribed velocity of 0 (which does not count as held: the old step)
+// gives the same contact, and the longer step stops at the penalty's limit ω·dt = √(1+ξ²) − ξ.
+// The soft block pressed on a stiff deformable base (E 1000 MPa, held) comes to rest under its
+// 0.01 N: both runs' displacements agree within 1 % of the largest (measured: see the printed
+// line), and the contact force equals the load within 1 % at 10 ms (damped, α = 2/ms).
+TEST(stable_step, held_elements_do_not_bound_it) {
+  auto model = [](bool held_by_fixed) {
+    BlockOnBase spec;
+    spec.base_cells = 4;
+    solve::Model m = block_on_rigid_base(spec);
+    m.materials[0].rigid = false;  // a stiff deformable base: its elements set the step
+    m.bcs.erase(std::remove_if(m.bcs.begin(), m.bcs.end(), [](const solve::NodeBc& b) { return b.group == "all"; }),
+                m.bcs.end());
+    for (int d = 0; d < 3; ++d)
+      m.bcs.push_back(held_by_fixed ? solve::NodeBc{"all", d, solve::BcKind::fixed, {}}
+                                    : solve::NodeBc{"all", d, solve::BcKind::velocity, solve::Curve::constant(0)});
+    m.control.end_time = 10;
+    return m;
+  };
+  solve::Solver held(model(true)), moving(model(false));
+  EXPECT_EQ(held.contact_dt(), moving.dt());
+  EXPECT_EQ(moving.contact_dt(), moving.dt());
+  const double s_pen = 0.1, xi = 0.1, limit = (std::sqrt(1 + xi * xi) - xi) / std::sqrt(s_pen);
+  EXPECT_NEAR(held.dt(), limit * moving.dt(), 1e-12 * held.dt());  // the skin alone allows more
+  EXPECT_LT(held.dt(), 0.9 * held.stable_dt());
+  EXPECT_EQ(held.step_limiting_part(), "top_block");
+  EXPECT_EQ(moving.step_limiting_part(), "block");
+  held.run_until(10);
+  moving.run_until(10);
+  ASSERT_TRUE(held.health().empty()) << held.health();
+  ASSERT_TRUE(moving.health().empty()) << moving.health();
+  double umax = 0, diff = 0;
+  for (std::size_t k = 0; k < held.x().size(); ++k) {
+    umax = std::max(umax, std::fabs(moving.x()[k] - moving.model().X[k]));
+    diff = std::max(diff, std::fabs(held.x()[k] - moving.x()[k]));
+  }
+  EXPECT_GT(umax, 1e-4);
+  EXPECT_LT(diff, 0.01 * umax);
+  for (const solve::Solver* s : {&held, &moving})
+    EXPECT_NEAR(s->contacts()[0].resultant_force()[2], 0.01, 1e-4);
+  std::printf("held base: %ld steps of %.6g ms (contact step %.6g ms) against %ld of %.6g ms; largest displacement "
+              "%.4g mm, largest difference %.3g mm; contact force %.6f / %.6f N\n",
+              held.steps(), held.dt(), held.contact_dt(), moving.steps(), moving.dt(), umax, diff,
+              held.contacts()[0].resultant_force()[2], moving.contacts()[0].resultant_force()[2]);
+  // A restart continues a held run bit-identically: the state keeps the contact step.
+  solve::Solver first(model(true)), resumed(model(true));
+  first.run_until(5);
+  const std::string path = temp_dir("held_restart") + "/state.bin";
+  solve::save_state(path, first.state());
+  resumed.set_state(solve::load_state(path));
+  EXPECT_EQ(resumed.contact_dt(), first.contact_dt());
+  first.run_until(10);
+  resumed.run_until(10);
+  ASSERT_EQ(first.steps(), resumed.steps());
+  EXPECT_EQ(first.x(), resumed.x());
+  EXPECT_EQ(first.x(), held.x());
 }
 
 // Penetration guard: the block pressed on the base penetrates ~2 µm; a tolerance of 0.1 µm stops

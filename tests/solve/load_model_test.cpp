@@ -173,6 +173,17 @@ TEST(check_model, massless_slave_node_named_by_tag_or_number) {
   EXPECT_NE(message(m).find("contact 'touch': slave node " + std::to_string(loose + 1) + " belongs to no part"),
             std::string::npos)
       << message(m);
+  // A load or an initial velocity on it: refused too (the load's share had vanished, exit 0).
+  m.contacts.clear();
+  m.loads.push_back({"loose", 2, solve::Curve::constant(1.0)});
+  EXPECT_NE(message(m).find("loads[loose]: node " + std::to_string(loose + 1) + " belongs to no part (no mass)"),
+            std::string::npos)
+      << message(m);
+  m.loads.clear();
+  m.initial_velocities.push_back({"loose", {0, 0, 1}});
+  EXPECT_NE(message(m).find("initial_velocity[loose]: node " + std::to_string(loose + 1) + " belongs to no part"),
+            std::string::npos)
+      << message(m);
 }
 
 // A model that holds a head (group head_skin) in metres or cm is refused before the run: in metres,
