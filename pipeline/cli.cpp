@@ -41,7 +41,12 @@ Cli& Cli::option(const std::string& s, const std::string& l, std::string* value,
                  const std::string& help, bool is_required) {
   Opt o{s, l, help};
   o.is_required = is_required;
-  o.set = [value](const std::string& v) { *value = v; };
+  // An empty value is never a file name or a choice: `--restart "$STATE"` with STATE unset ran
+  // solve from t = 0 as if no --restart had been given, for ten minutes.
+  o.set = [value, l](const std::string& v) {
+    if (v.empty()) throw Error(ErrorKind::usage, l + ": '' is empty: give a value, or leave " + l + " out");
+    *value = v;
+  };
   o.get = [value] { return *value; };
   opts_.push_back(o);
   return *this;

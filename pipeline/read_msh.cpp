@@ -26,7 +26,15 @@ MshFile read_open_model(const std::string& path) {
   // Tag → where gmsh lists it first (a node on an entity's boundary may be listed once per
   // entity), then → its index in f once it is stored there.
   std::map<std::size_t, std::size_t> index;
-  for (std::size_t i = 0; i < tags.size(); ++i) index.emplace(tags[i], i);
+  for (std::size_t i = 0; i < tags.size(); ++i) {
+    const auto [it, first] = index.emplace(tags[i], i);
+    // Listed again at other coordinates: a tag defined twice (a mesh merged by hand), of which
+    // the first coordinates had won without a word.
+    if (!first)
+      for (int k = 0; k < 3; ++k)
+        if (xyz[3 * i + k] != xyz[3 * it->second + k])
+          throw bad_input(path, "node " + std::to_string(tags[i]) + " is defined twice, at different coordinates");
+  }
   // The nodes in tag order, not gmsh's: gmsh lists them entity by entity, and createTopology
   // numbers the curve and point entities of surface_mesh's output in pointer order, so the same
   // surface read from another path listed its nodes in another order and layers wrote a

@@ -81,28 +81,40 @@ void require_room_for_outputs(const Model& m, std::size_t elements, const std::s
                                          " are free there: raise control.output_interval or history_interval");
 }
 
-// SIGINT (Ctrl-C) or SIGTERM, noted by the handler StopSignals installs for the time loop. Their
-// default action killed a run with its frames' temporary file left beside an earlier run's
-// results, which looked like this run's; the loop now stops after its step and cleans up. A
-// signal the run was started ignoring (SIGINT for `solve ... &` in a script) stays ignored.
+// SIGINT (Ctrl-C), SIGTERM, SIGHUP (the terminal or the SSH session closed) or SIGPIPE (stderr
+// piped into a program that quit, `solve ... 2>&1 | head`), noted by the handler StopSignals
+// installs for the time loop. Their default action killed a run with its frames' temporary file
+// left beside an earlier run's results, which looked like this run's; the loop now stops after
+// its step and cleans up. A signal the run was started ignoring (SIGINT for `solve ... &` in a
+// script, SIGHUP under nohup) stays ignored.
 volatile std::sig_atomic_t stop_signal = 0;
 extern "C" void note_stop_signal(int sig) { stop_signal = sig; }
 
+std::string signal_name(int sig) {
+  switch (sig) {
+    case SIGINT: return "SIGINT (Ctrl-C)";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP (the terminal closed)";
+    case SIGPIPE: return "SIGPIPE (the program reading its output quit)";
+    default: return "signal " + std::to_string(sig);
+  }
+}
+
 struct StopSignals {
-  struct sigaction old_int {}, old_term {};
+  static constexpr int kSignals[4] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+  struct sigaction old[4] {};
   StopSignals() {
     stop_signal = 0;
     struct sigaction a {};
     a.sa_handler = note_stop_signal;
     sigemptyset(&a.sa_mask);
-    sigaction(SIGINT, nullptr, &old_int);
-    sigaction(SIGTERM, nullptr, &old_term);
-    if (old_int.sa_handler != SIG_IGN) sigaction(SIGINT, &a, nullptr);
-    if (old_term.sa_handler != SIG_IGN) sigaction(SIGTERM, &a, nullptr);
+    for (int k = 0; k < 4; ++k) {
+      sigaction(kSignals[k], nullptr, &old[k]);
+      if (old[k].sa_handler != SIG_IGN) sigaction(kSignals[k], &a, nullptr);
+    }
   }
   ~StopSignals() {
-    sigaction(SIGINT, &old_int, nullptr);
-    sigaction(SIGTERM, &old_term, nullptr);
+    for (int k = 0; k < 4; ++k) sigaction(kSignals[k], &old[k], nullptr);
   }
 };
 
@@ -139,14 +151,21 @@ void require_inputs_apart_from_outputs(const std::string& out_dir, const std::st
 }
 
 RunSummary run(const Model& model, const RunOptions& opt) {
+  constexpr double many_steps = 1e6;
   namespace fs = std::filesystem;
   if (opt.out_dir.empty()) throw pipeline::Error(pipeline::ErrorKind::usage, "no output directory given");
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   // 1. Initial state: command line restart wins over the deck's initial_state. Read before the
   // solver is set up, whose ties are matched where the run starts.
   const std::string start_file = starting_state_file(model, opt);
+  // Stage II before stage I said only "stage1/state.bin: no such file".
+  if (opt.restart.empty() && !start_file.empty() && !fs::exists(start_file))
+    throw pipeline::bad_input(start_file, "no such file: the deck's initial_state names it (relative to the deck's "
+                                          "folder); run the stage that writes it first");
   const SolverState start = start_file.empty() ? SolverState{} : load_state(start_file);
-  Solver s(model, start_file.empty() ? nullptr : &start.x);
+  Model started = model;  // messages about the starting state name the file the run started from
+  started.initial_state.file = start_file;
+  Solver s(std::move(started), start_file.empty() ? nullptr : &start.x);
   const Model& m = s.model();
   if (!opt.restart.empty())
     s.set_state(start, false, false);
@@ -203,6 +222,22 @@ RunSummary run(const Model& model, const RunOptions& opt) {
                              " g, added by mass scaling " + fmt(s.added_mass()) + " g (" +
                              fmt(100 * s.added_mass() / std::max(1e-300, s.physical_mass())) +
                              " %); threads " + std::to_string(omp_get_max_threads()));
+  // A material far stiffer or lighter than tissue (an E in Pa read as MPa, a ν of 0.4999999)
+  // asks millions of steps, and only the ETA line showed it: skin E 6e5 gave stage I 9.4 million
+  // steps (33 h), fat ν 0.4999999 about 2 million (6 h). medium_onesize's stages take 15,400 and
+  // 36,500.
+  if (steps_needed > many_steps) {
+    std::string what;
+    for (const Part& p : m.parts)
+      if (p.name == s.step_limiting_part()) {
+        const Material& mat = m.materials[std::size_t(p.material)];
+        what = " (material '" + mat.name + "': E " + fmt(mat.E) + " MPa, nu " + fmt(mat.nu) + ", density " +
+               fmt(mat.density) + " g/mm3)";
+      }
+    pipeline::log("solve", "warning: " + fmt(std::ceil(steps_needed)) + " steps, more than " + fmt(many_steps) +
+                               ": part '" + s.step_limiting_part() + "'" + what + " sets the step of " + fmt(s.dt()) +
+                               " ms; check its units (MPa, g/mm3) and nu (< 0.5; near 0.5 the step shrinks without bound)");
+  }
   // 2. Outputs being built. The files of a sound run. An earlier run's are removed first, so none
   // of them can pass for this run's results if it stops (a signal, divergence, a failed write;
   // the state this run started from is kept: it is the user's input); a sound run removes the
@@ -249,7 +284,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     if (stop_signal) {
       remove_outputs();
       throw pipeline::Error(pipeline::ErrorKind::interrupted,
-                            m.name + ": stopped by " + (stop_signal == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM") +
+                            m.name + ": stopped by " + signal_name(stop_signal) +
                                 " at t = " + fmt(s.time()) + " ms (step " + std::to_string(s.steps()) +
                                 "), no results written");
     }

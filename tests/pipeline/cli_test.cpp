@@ -87,6 +87,9 @@ TEST(cli, rejects_absurd_and_malformed_values) {
   EXPECT_EQ(message({"prog", "-i", "a", "-e", "2", "--edge", "3"}), "--edge given twice: give each option once");
   EXPECT_EQ(message({"prog", "-i", "a", "--verbose=false"}), "--verbose is a flag and takes no value, got 'false'");
   EXPECT_EQ(message({"prog", "-i", "a", "-e", "0x8"}), "--edge: expected a finite number, got '0x8'");
+  // an empty value (an unset shell variable): solve --restart "" ran from t = 0 as if not given
+  EXPECT_EQ(message({"prog", "-i", ""}), "--in: '' is empty: give a value, or leave --in out");
+  EXPECT_EQ(message({"prog", "--in="}), "--in: '' is empty: give a value, or leave --in out");
 }
 
 // A seed is a whole number read exactly: through a double, 1.5 and 1.999 gave seed 1's bytes

@@ -75,6 +75,27 @@ TEST(read_msh, nodes_in_tag_order_whatever_order_the_file_lists_them) {
   }
 }
 
+// A tag listed twice at different coordinates (a mesh merged by hand) is refused; its first
+// coordinates had won without a word. Listed twice at the same place, as gmsh lists a node on
+// the boundary of two entities, it is one node.
+TEST(read_msh, a_node_defined_twice_at_different_places_is_refused) {
+  const std::string once = "$Nodes\n1 4 10 13\n2 1 0 4\n10\n11\n12\n13\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+  std::string text = square_msh();
+  ASSERT_NE(text.find(once), std::string::npos);
+  for (const std::string& again : {std::string("1 1 0"), std::string("5 5 5")}) {
+    std::string twice = text;
+    twice.replace(twice.find(once), once.size(),
+                  "$Nodes\n1 5 10 13\n2 1 0 5\n10\n11\n12\n13\n12\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n" + again + "\n");
+    const std::string path = scratch_file("square_twice.msh", twice);
+    if (again == "1 1 0") {
+      EXPECT_EQ(msh_error_of(path), "no error");
+      EXPECT_EQ(pipeline::read_msh(path).n_nodes(), 4u);
+    } else {
+      EXPECT_EQ(msh_error_of(path), path + ": node 12 is defined twice, at different coordinates");
+    }
+  }
+}
+
 TEST(read_msh, bad_files_give_one_line_naming_the_file) {
   const std::string missing = (scratch_dir() / "missing.msh").string();
   EXPECT_EQ(msh_error_of(missing), missing + ": no such file");

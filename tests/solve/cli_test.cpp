@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -67,7 +68,7 @@ int count(const std::string& text, const std::string& what) {
 
 }  // namespace
 
-// Ctrl-C (SIGINT) or SIGTERM killed a run and left its frames' temporary file beside the results
+// Ctrl-C (SIGINT), SIGTERM or SIGHUP (a closed terminal) killed a run and left its frames' temporary file beside the results
 // of an earlier run in the same folder, which looked like this run's (and stage II would have
 // started from the old state.bin). Now an earlier run's outputs are removed when a run starts,
 // and a signal stops the run after its step: exit 130, one line, nothing of either run left.
@@ -78,7 +79,10 @@ TEST(solve_cli, a_run_stopped_by_a_signal_leaves_no_outputs_of_its_own_or_of_an_
   const std::string every_quarter = "\"output_interval\": 0.25";
   long_deck.replace(long_deck.find(every_quarter), every_quarter.size(), "\"output_interval\": 1000");
   c.write("long.json", long_deck);
-  for (const std::string signal : {"INT", "TERM"}) {
+  const std::map<std::string, std::string> said = {{"INT", "SIGINT (Ctrl-C)"},
+                                                    {"TERM", "SIGTERM"},
+                                                    {"HUP", "SIGHUP (the terminal closed)"}};
+  for (const auto& [signal, name] : said) {
     ASSERT_EQ(c.solve("short.json", "stopped"), 0) << c.read("err.txt");
     for (const char* f : {"results.msh", "energy.csv", "forces.csv", "state.bin"})
       ASSERT_TRUE(fs::exists(c.dir + "/stopped/" + f)) << f;
@@ -91,9 +95,7 @@ TEST(solve_cli, a_run_stopped_by_a_signal_leaves_no_outputs_of_its_own_or_of_an_
     std::istringstream err(c.read("err.txt"));
     for (std::string line; std::getline(err, line);) last = line;
     EXPECT_EQ(last.rfind("solve: ", 0), 0u) << last;
-    EXPECT_NE(last.find(signal == "INT" ? ": stopped by SIGINT (Ctrl-C) at t = " : ": stopped by SIGTERM at t = "),
-              std::string::npos)
-        << last;
+    EXPECT_NE(last.find(": stopped by " + name + " at t = "), std::string::npos) << last;
     EXPECT_NE(last.find("no results written"), std::string::npos) << last;
     std::vector<std::string> left;
     for (const auto& e : fs::directory_iterator(c.dir + "/stopped")) left.push_back(e.path().filename().string());
@@ -176,6 +178,15 @@ TEST(solve_cli, an_input_named_as_an_output_in_the_out_dir_is_refused_and_kept) 
   EXPECT_EQ(c.read("stage1/state.bin"), state);
   EXPECT_EQ(c.read("stage1/results.msh"), results);
   EXPECT_EQ(c.solve("next.json", "stage2"), 0) << c.read("err.txt");
+  // a next stage before the earlier one: said so (it was only "stage1/state.bin: no such file")
+  std::string early = next;
+  early.replace(early.find("stage1/state.bin"), 16, "absent/state.bin");
+  c.write("early.json", early);
+  EXPECT_EQ(c.solve("early.json", "stage3"), 2);
+  EXPECT_NE(c.read("err.txt").find("absent/state.bin: no such file: the deck's initial_state names it (relative to "
+                                   "the deck's folder); run the stage that writes it first"),
+            std::string::npos)
+      << c.read("err.txt");
   EXPECT_EQ(c.solve("deck.json", "stage1", "--restart " + c.dir + "/stage1/state.bin --end-time-ms 1.5"), 0)
       << c.read("err.txt");
 }
@@ -390,4 +401,27 @@ TEST(solve_cli, bad_msh_one_error_line_no_results) {
             std::string::npos)
       << c.read("err.txt");
   EXPECT_FALSE(fs::exists(c.dir + "/out/results.msh"));
+}
+
+// A run of millions of steps says which part sets the step and what to check: skin E given in Pa
+// (6e5 as MPa) asked stage I 9.4 million steps, and only the ETA line showed it. Stopped by
+// SIGTERM after 1 s (2 million steps would take minutes).
+TEST(solve_cli, millions_of_steps_name_the_part_that_sets_the_step) {
+  CliCase c;
+  std::string stiff = deck(20.0);
+  stiff.replace(stiff.find("\"E\": 0.6"), 8, "\"E\": 6e5");
+  c.write("stiff.json", stiff);
+  EXPECT_EQ(c.sh("timeout --preserve-status -s TERM 1 " + std::string(BIN_DIR) + "/solve --model " + c.dir +
+                 "/block.msh --deck " + c.dir + "/stiff.json --out-dir " + c.dir + "/stiff"),
+            130)
+      << c.read("err.txt");
+  const std::string err = c.read("err.txt");
+  EXPECT_NE(err.find("solve: warning: "), std::string::npos) << err;
+  EXPECT_NE(err.find(" steps, more than 1000000: part 'block' (material 'skin': E 600000 MPa, nu 0.45, density 0.0012 "
+                     "g/mm3) sets the step of "),
+            std::string::npos)
+      << err;
+  c.write("deck.json", deck(1.0));
+  ASSERT_EQ(c.solve("deck.json", "soft"), 0) << c.read("err.txt");
+  EXPECT_EQ(c.read("err.txt").find("warning"), std::string::npos) << c.read("err.txt");
 }
