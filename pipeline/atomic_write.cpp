@@ -51,6 +51,15 @@ void write_all_or_none(const std::vector<Output>& outputs) {
       o.write();
       written.push_back(o.path);
     }
+  } catch (const Error& e) {
+    for (const std::string& p : written) std::remove(p.c_str());
+    if (written.empty()) throw;
+    // Say so: `generate_scan --out x.ply --clean-mesh c.obj` failing on c.obj named only c.obj,
+    // and x.ply, the user's earlier copy included, was gone.
+    std::string removed;
+    for (const std::string& p : written) removed += (removed.empty() ? "" : ", ") + p;
+    throw Error(e.kind, std::string(e.what()) + " (" + removed + ", written before it, removed: a stage's outputs "
+                                                 "are all or none)");
   } catch (...) {
     for (const std::string& p : written) std::remove(p.c_str());
     throw;

@@ -25,7 +25,8 @@ struct Output {
 
 /// Writes a stage's outputs all or none: runs the writes in order and, if one throws, removes
 /// the files the earlier ones wrote before re-throwing, so Make never sees part of a failed
-/// stage's outputs as new. (Each write is atomic on its own; this makes the set so.)
+/// stage's outputs as new. (Each write is atomic on its own; this makes the set so.) A
+/// pipeline::Error re-thrown names the files removed: an earlier copy at those paths is gone too.
 void write_all_or_none(const std::vector<Output>& outputs);
 
 /// The folder a file or folder at `path` would be made in: `path` itself if it is there, else the

@@ -46,11 +46,15 @@ TEST(write_all_or_none, a_failed_write_removes_the_ones_before_it) {
   fs::remove_all(dir);
   const std::string a = (dir / "a.txt").string(), b = (dir / "b.txt").string(), c = (dir / "c.txt").string();
   bool skipped_ran = false;
-  EXPECT_THROW(pipeline::write_all_or_none({{a, [&] { pipeline::write_text_atomic(a, "a"); }},
-                                            {"", [&] { skipped_ran = true; }},
-                                            {b, [&] { pipeline::write_text_atomic(b, "b"); }},
-                                            {c, [&] { throw pipeline::io_failed(c, "disk full"); }}}),
-               pipeline::Error);
+  // the error names what it removed (generate_scan named only the failed file)
+  EXPECT_EQ(error_message(pipeline::ErrorKind::io,
+                          [&] {
+                            pipeline::write_all_or_none({{a, [&] { pipeline::write_text_atomic(a, "a"); }},
+                                                         {"", [&] { skipped_ran = true; }},
+                                                         {b, [&] { pipeline::write_text_atomic(b, "b"); }},
+                                                         {c, [&] { throw pipeline::io_failed(c, "disk full"); }}});
+                          }),
+            c + ": disk full (" + a + ", " + b + ", written before it, removed: a stage's outputs are all or none)");
   EXPECT_FALSE(skipped_ran);
   EXPECT_FALSE(fs::exists(a));
   EXPECT_FALSE(fs::exists(b));
