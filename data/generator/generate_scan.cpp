@@ -19,13 +19,22 @@ pipeline::Error usage(const std::string& msg) { return pipeline::Error(pipeline:
 
 GeneratedScan generate_scan(const GenerateRequest& rq) {
   const bool from_mesh = !rq.mesh_path.empty();
-  if (from_mesh == !rq.kind.empty())
+  if (!from_mesh && rq.kind.empty())
     throw usage("give either --from-mesh PATH or --kind head|respirator (with --id and --params)");
+  // With a mesh, --kind says what it is (its size guesses its unit) and --id/--params mean
+  // nothing: both had been ignored without a word, and a respirator-sized mesh was refused as
+  // "an object of another kind (see --kind)" by a program that refused --kind beside it.
+  if (from_mesh && (!rq.id.empty() || !rq.params_path.empty()))
+    throw usage("--from-mesh scans the mesh given: --id and --params are for generated models");
+  if (!from_mesh && rq.unit != "auto") throw usage("--unit is for --from-mesh: the generated models are in mm");
   Triangles tri;
   std::vector<Hole> model_holes;
   std::string rim_note;
   if (from_mesh) {
-    const pipeline::Scan scan = pipeline::read_scan(rq.mesh_path);
+    pipeline::ScanReadOptions ropt;
+    ropt.unit = pipeline::parse_unit(rq.unit);
+    ropt.expected_size_mm = pipeline::expected_extent_mm(rq.kind.empty() ? "head" : rq.kind);
+    const pipeline::Scan scan = pipeline::read_scan(rq.mesh_path, ropt);
     if (!scan.is_mesh) throw pipeline::bad_input(rq.mesh_path, "is a point cloud, expected a mesh to scan");
     tri = triangles_of(scan.soup);
   } else if (rq.id.empty() || rq.params_path.empty()) {

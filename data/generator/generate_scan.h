@@ -17,10 +17,11 @@ constexpr double max_scan_spacing_mm = 10.0;
 /// What to scan and how. Either mesh_path (scan a given mesh) or kind + id + params_path
 /// (a generated headform or respirator) must be set, not both.
 struct GenerateRequest {
-  std::string kind;         ///< "head" or "respirator" (generated model)
+  std::string kind;         ///< "head" or "respirator": the generated model, or what --from-mesh is (its size)
   std::string id;           ///< model id in the params file ("medium", "onesize", ...)
   std::string params_path;  ///< headforms.json or respirators.json
   std::string mesh_path;    ///< a mesh to scan (PLY/STL/OBJ/OFF, any unit read_scan detects)
+  std::string unit = "auto";///< the mesh's length unit: auto, mm, cm, m or in (pipeline::parse_unit)
   int points = 0;           ///< samples before holes/outliers; 0: area / spacing_mm²
   double spacing_mm = 0.6;  ///< mean spacing of a structured-light scanner [mm], [0.1, max_scan_spacing_mm]
   double noise_mm = 0.2;    ///< Gaussian noise σ [mm]

@@ -24,10 +24,11 @@ int main(int argc, char** argv) {
   pipeline::Cli cli("generate_scan",
                     "Simulates a structured-light scan (noise, holes, outliers, spikes) of a generated "
                     "headform or respirator (--kind, --id and --params), or of a given mesh (--from-mesh).");
-  cli.option("-k", "--kind", &rq.kind, "generated model: head or respirator")
+  cli.option("-k", "--kind", &rq.kind, "generated model: head or respirator; with --from-mesh, what the mesh is (its size guesses its unit; default head)")
       .option("-d", "--id", &rq.id, "model id in the params file (e.g. medium, onesize)")
       .option("-p", "--params", &rq.params_path, "params JSON (data/generator/headforms.json, respirators.json)")
       .option("-m", "--from-mesh", &rq.mesh_path, "scan this mesh instead (PLY/STL/OBJ/OFF)")
+      .option("-u", "--unit", &rq.unit, "the --from-mesh mesh's length unit: auto (mm, cm or m by its size), mm, cm, m or in")
       .option("-o", "--out", &out, "output point cloud (.ply binary or .xyz)", pipeline::required)
       .option("-c", "--clean-mesh", &clean_mesh, "also write the clean reference surface (.ply/.off/.obj/.stl)")
       .option("-H", "--holes-out", &holes_out, "also write the holes made (JSON)")

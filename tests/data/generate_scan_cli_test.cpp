@@ -111,6 +111,33 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
                  "respirator 'onesize': unknown key \"wal\"");
 }
 
+// --from-mesh of a respirator-sized mesh: --kind says what it is. It was refused as "an object of
+// another kind (see --kind)?" by a program that refused --kind beside --from-mesh, and a mesh in
+// inches was told to use a --unit that generate_scan did not have. --id and --params beside a
+// mesh were ignored without a word.
+TEST(generate_scan, a_given_mesh_can_be_a_respirator_or_in_any_unit) {
+  std::filesystem::create_directories(tmp);
+  const std::string cup = std::string(SHARED_DATA_DIR) + "/respirator-parts/Conforming_Invert_M.stl";
+  const std::string out = tmp + "/cup.ply";
+  EXPECT_EQ(run("--from-mesh " + cup + " --points 20000 --out " + out), 2);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("an object of another kind (see --kind)?"), std::string::npos)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_EQ(run("--from-mesh " + cup + " --kind respirator --points 20000 --out " + out), 0)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_TRUE(std::filesystem::exists(out));
+  EXPECT_EQ(run("--from-mesh " + cup + " --kind respirator --unit mm --points 20000 --out " + out), 0)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_EQ(run("--from-mesh " + cup + " --kind respirator --id onesize --out " + tmp + "/no.ply"), 1);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("--id and --params are for generated models"), std::string::npos)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_EQ(run("--kind respirator --id onesize --params " + std::string(SOURCE_DIR) +
+                "/data/generator/respirators.json --unit cm --out " + tmp + "/no.ply"),
+            1);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("--unit is for --from-mesh"), std::string::npos)
+      << file_text(tmp + "/stderr.txt");
+  EXPECT_FALSE(std::filesystem::exists(tmp + "/no.ply"));
+}
+
 // data/generator/render_views.py, with which the generated heads and cups were looked at: the NIOSH
 // STL gives a PNG; a text file named .ply (meshio 5.0 calls sys.exit on it) or a missing file gives
 // one line naming the file, a non-zero exit and no PNG.
