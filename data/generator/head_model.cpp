@@ -183,6 +183,23 @@ HeadParams head_params_from_json(const nlohmann::json& j, const std::string& pat
                                           pipeline::format_number(r.hi));
     p.*(r.field) = v;
   }
+  // Each dimension in its range is not yet a head: a jaw wider than the face, or a cranium
+  // narrower than the cheekbones, was built as asked (calibrated to 0.4 mm) with exit 0, a pinched
+  // face over a wide jaw. The bounds hold with room on NIOSH medium and large and the five
+  // headforms here: jaw / face width 0.70-0.77, face width - head breadth -3.2 to +1.8 mm, head
+  // breadth / length 0.74-0.83.
+  const auto refuse = [&](const std::string& what) {
+    throw pipeline::bad_input(path, "headform '" + id + "': " + what + ": no head is built so");
+  };
+  using pipeline::format_number;
+  if (!(p.jaw_width < p.face_width))
+    refuse("jaw_width " + format_number(p.jaw_width) + " mm is not under face_width " + format_number(p.face_width) + " mm");
+  if (!(p.face_width <= p.head_breadth + 15))
+    refuse("face_width " + format_number(p.face_width) + " mm is more than 15 mm over head_breadth " +
+           format_number(p.head_breadth) + " mm");
+  if (!(p.head_breadth < p.head_length))
+    refuse("head_breadth " + format_number(p.head_breadth) + " mm is not under head_length " +
+           format_number(p.head_length) + " mm");
   return p;
 }
 

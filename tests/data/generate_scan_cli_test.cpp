@@ -102,6 +102,12 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   text = file_text(headforms);
   text.replace(text.find("\"face_length\": 120.6"), 20, "\"chin_protrusion\": 12, \"face_length\": 120.6");
   expect_refused(text, "added.json", "--kind head --id medium", "headform 'medium': unknown key \"chin_protrusion\"");
+  // Each dimension in range but no head: a jaw wider than the face was built as asked, exit 0.
+  text = file_text(headforms);
+  const std::string widths = "\"face_width\": 151.6, \"jaw_width\": 112.3";
+  text.replace(text.find(widths), widths.size(), "\"face_width\": 100, \"jaw_width\": 140");
+  expect_refused(text, "jaw.json", "--kind head --id medium",
+                 "headform 'medium': jaw_width 140 mm is not under face_width 100 mm: no head is built so");
   // A cup's optional dimension misspelt ("wal") was read as absent: the default wall, exit 0.
   std::string cups = file_text(std::string(SOURCE_DIR) + "/data/generator/respirators.json");
   const std::size_t wall = cups.find("\"wall\"", cups.find("\"onesize\""));
