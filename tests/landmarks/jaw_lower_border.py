@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Where is the jaw angle on an aligned head? An analysis aid for the gonion detector, not a test.
 
 Usage: jaw_lower_border.py aligned.ply landmarks.json [picture.png]
