@@ -254,6 +254,26 @@ TEST(cases_makefile, build_from_the_environment_is_ignored) {
   EXPECT_FALSE(fs::exists(elsewhere));
 }
 
+// make -n on a fresh clone (no program built yet) lists every stage's command, as the build that
+// `make case=...` runs first makes them all: it listed none and called every stage "not yet part
+// of the pipeline". It writes nothing.
+TEST(cases_makefile, a_dry_run_before_the_build_lists_every_stage) {
+  const fs::path out = scratch_dir() / "fresh_dry.out";
+  const fs::path fresh = scratch_dir() / "fresh_build";
+  fs::remove_all(fresh);
+  fs::create_directories(fresh);
+  ASSERT_EQ(run_command("make -n --no-print-directory -C " SOURCE_DIR " -f Makefile.cases case=medium_onesize BUILD=" +
+                        fresh.string() + " > " + out.string() + " 2>&1"),
+            0)
+      << file_text(out);
+  const std::string text = file_text(out);
+  for (const char* stage : {"generate_scan", "reconstruct", "repair", "align", "landmarks", "segment", "fit",
+                            "surface_mesh", "layers", "straps", "assemble"})
+    EXPECT_NE(text.find(fresh.string() + "/bin/" + stage + " --"), std::string::npos) << stage << "\n" << text;
+  EXPECT_EQ(text.find("not yet part of the pipeline (next): reconstruct"), std::string::npos) << text;
+  EXPECT_TRUE(fs::is_empty(fresh));
+}
+
 // A landmarks file alone changes nothing before the landmarks stage: the case's own head chain
 // starts from the shared aligned head (it re-ran reconstruct, repair and align, ~45 s).
 TEST_F(CasesMake, a_landmarks_file_alone_starts_from_the_shared_aligned_head) {
