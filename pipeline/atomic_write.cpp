@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -17,6 +18,52 @@ namespace fs = std::filesystem;
 
 namespace pipeline {
 
+namespace {
+// The temporary files being written, for the signal handler below to remove. Plain arrays and a
+// sig_atomic_t flag per slot: all a handler may touch. A slot's path is written before its flag
+// is set, and the flag cleared before the slot is reused.
+constexpr int kPendingSlots = 8;
+char pending_path[kPendingSlots][4096];
+volatile std::sig_atomic_t pending_used[kPendingSlots];
+
+extern "C" void remove_pending_and_reraise(int sig) {
+  for (int k = 0; k < kPendingSlots; ++k)
+    if (pending_used[k]) ::unlink(pending_path[k]);
+  std::signal(sig, SIG_DFL);  // then die of the signal as before, so the caller sees it
+  ::raise(sig);
+}
+
+// Holds a temporary file in a slot while it is written (none free, or a path too long: not held,
+// as before this existed).
+struct PendingFile {
+  int slot = -1;
+  explicit PendingFile(const std::string& tmp) {
+    if (tmp.size() >= sizeof pending_path[0]) return;
+    for (int k = 0; k < kPendingSlots && slot < 0; ++k)
+      if (!pending_used[k]) {
+        std::memcpy(pending_path[k], tmp.c_str(), tmp.size() + 1);
+        pending_used[k] = 1;
+        slot = k;
+      }
+  }
+  ~PendingFile() {
+    if (slot >= 0) pending_used[slot] = 0;
+  }
+};
+}  // namespace
+
+void remove_temporary_files_on_signals() {
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction old {};
+    sigaction(sig, nullptr, &old);
+    if (old.sa_handler != SIG_DFL) continue;  // ignored (nohup, `&` in a script) or handled: left so
+    struct sigaction a {};
+    a.sa_handler = remove_pending_and_reraise;
+    sigemptyset(&a.sa_mask);
+    sigaction(sig, &a, nullptr);
+  }
+}
+
 void write_atomic(const std::string& path, const std::function<void(const std::string&)>& writer) {
   const fs::path target(path);
   if (target.has_parent_path()) {
@@ -27,6 +74,7 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
   // Keep the extension last: some writers (gmsh, CGAL) choose the format from it.
   const std::string tmp = (target.parent_path() / (".tmp." + std::to_string(::getpid()) + "." +
                                                    target.filename().string())).string();
+  const PendingFile pending(tmp);
   try {
     errno = 0;  // so why_write_failed gives this write's reason, not an earlier call's
     writer(tmp);

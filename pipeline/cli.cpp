@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 
+#include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/lower_extension.h"
 
@@ -221,6 +222,7 @@ int run_main(Cli& cli, int argc, char** argv, const std::function<int()>& body) 
   // message and left its temporary file; ignored, the write fails with EFBIG, which the atomic
   // writers report (exit 4) after removing the temporary file.
   std::signal(SIGXFSZ, SIG_IGN);
+  remove_temporary_files_on_signals();
   try {
     if (!cli.parse(argc, argv)) return 0;
     std::fprintf(stderr, "%s: options: %s\n", prog.c_str(), cli.resolved().c_str());

@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
@@ -19,6 +22,34 @@ TEST(write_atomic, writes_complete_file_and_creates_directories) {
   pipeline::write_text_atomic(path, "hello");
   EXPECT_EQ(pipeline::read_text(path), "hello");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+}
+
+// A stage killed by SIGTERM, SIGINT or SIGHUP while it writes leaves neither its temporary file
+// nor a new output, and the earlier output stays; it still dies of the signal (the shell and
+// Make see the same status). The default action had left `.tmp.<pid>.<name>` beside the outputs.
+TEST(write_atomic, a_signal_during_a_write_leaves_no_temporary_file) {
+  for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    const fs::path dir = scratch_dir() / "atomic_signal";
+    fs::remove_all(dir);
+    const std::string path = (dir / "out.txt").string();
+    pipeline::write_text_atomic(path, "old");
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      std::signal(sig, SIG_DFL);
+      pipeline::remove_temporary_files_on_signals();
+      pipeline::write_atomic(path, [&](const std::string& tmp) {
+        std::ofstream(tmp) << "half";
+        ::raise(sig);
+      });
+      ::_exit(0);  // not reached
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << status;
+    EXPECT_EQ(pipeline::read_text(path), "old");
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << sig;
+  }
 }
 
 TEST(write_atomic, failed_writer_leaves_no_file_and_keeps_old_one) {
