@@ -241,7 +241,9 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
       if ((resp.nodes[i] + r.shift - a).norm() < (resp.nodes[best] + r.shift - a).norm()) best = i;
     // straps places the respirator as assemble does and puts each marker on a rim node (0.00 mm
     // off when both ran with the same options); a straps file made for another gap, bridge offset
-    // or respirator routed its bands to points the respirator is not at.
+    // or respirator routed its bands to points the respirator is not at. The respirator's place
+    // follows the head and the landmarks too: another case's landmarks or head failed here, and
+    // the message had named only the straps' options and the respirator.
     const double offset_mm = (resp.nodes[best] + r.shift - a).norm();
     r.attach_offset_mm = std::max(r.attach_offset_mm, offset_mm);
     constexpr double max_attach_offset_mm = 0.5;
@@ -250,7 +252,8 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
                                                 " mm from the respirator's rim as placed here (gap " +
                                                 pipeline::format_number(opt.gap_mm) + " mm, bridge offset " +
                                                 pipeline::format_number(opt.bridge_offset_mm) +
-                                                " mm): straps was run with another --gap-mm, --bridge-offset-mm or respirator");
+                                                " mm): straps was run with another --gap-mm, --bridge-offset-mm, respirator, "
+                                                "head or landmarks file than assemble was given");
     std::string name = b.name;
     if (name.rfind("strap_", 0) == 0) name = name.substr(6);  // strap_top_attach_left → top_attach_left
     out.blocks.push_back(Block{"attach_" + name.substr(0, name.find("_attach")) + name.substr(name.find("_attach") + 7),

@@ -201,8 +201,18 @@ void check_deck_model(const Deck& d, const json& o, const Model& m, const std::s
   const auto box = [](const std::array<double, 6>& b) {
     return pipeline::format_position_mm(b[0], b[1], b[2]) + " to " + pipeline::format_position_mm(b[3], b[4], b[5]);
   };
+  // The boxes print to 0.1 mm; a box off by less showed two equal boxes: name the largest gap too.
+  double gap = 0;
+  int worst = 0;
+  for (int k = 0; k < 6; ++k)
+    if (std::fabs(made_for[std::size_t(k)] - here[std::size_t(k)]) > gap)
+      gap = std::fabs(made_for[std::size_t(k)] - here[std::size_t(k)]), worst = k;
+  const std::string box_gap =
+      gap > tolerance_mm ? std::string(" (its ") + (worst < 3 ? "lowest " : "highest ") + "xyz"[worst % 3] + " differs by " +
+                               pipeline::format_number(gap) + " mm)"
+                         : "";
   throw d.bad("made for a model of " + pipeline::format_number(nodes) + " nodes from " + box(made_for) + ", and " +
-              model_name + " has " + std::to_string(m.n_nodes()) + " nodes from " + box(here) +
+              model_name + " has " + std::to_string(m.n_nodes()) + " nodes from " + box(here) + box_gap +
               ": the deck of another case, or of an earlier assemble? (assemble writes the model and its decks together)");
 }
 

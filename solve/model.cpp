@@ -121,6 +121,10 @@ void check_model(const Model& m) {
   for (const auto& c : m.contacts) {
     check_group(c.slave, "contact '" + c.name + "'");
     check_group(c.master, "contact '" + c.name + "'");
+    // Self-contact is not modelled: a group on itself gave no force and made each step 15 times
+    // slower, exit 0 (a tie of a group to itself is refused too).
+    if (c.slave == c.master)
+      throw bad("contact '" + c.name + "': slave and master are both '" + c.slave + "': self-contact is not modelled");
     m.surface(c.master);
     if (!(c.penalty_scale > 0 && c.penalty_scale <= 1))
       throw bad("contact '" + c.name + "': penalty_scale must be in (0, 1]");

@@ -141,6 +141,12 @@ ElementBlock setup_block(const Part& part, int part_index, const Material& mat, 
   const auto qp = quadrature(part.type);
   std::vector<Eigen::MatrixXd> dN;
   for (const auto& q : qp) dN.push_back(shape_derivatives(part.type, q.xi));
+  // An element named by its index within the part cannot be found in gmsh: its centroid can.
+  const auto element_at = [&](std::size_t e) {
+    Eigen::Vector3d c(0, 0, 0);
+    for (int a = 0; a < nn; ++a) c += Eigen::Vector3d(X + 3 * std::size_t(part.conn[e * nn + a])) / nn;
+    return "element " + std::to_string(e + 1) + " of the part, centred at " + pipeline::format_position_mm(c.x(), c.y(), c.z());
+  };
   for (std::size_t e = 0; e < ne; ++e) {
     // Reference nodal coordinates; membranes in a local orthonormal frame of their plane.
     Eigen::MatrixXd Xe(nn, d);
@@ -154,7 +160,7 @@ ElementBlock setup_block(const Part& part, int part_index, const Material& mat, 
         c += P[a] / nn;
       }
       Eigen::Vector3d n = nn == 3 ? (P[1] - P[0]).cross(P[2] - P[0]) : (P[2] - P[0]).cross(P[3] - P[1]);
-      if (n.norm() <= 0) throw pipeline::bad_input(model_name, "part '" + part.name + "': element " + std::to_string(e) + " is degenerate (zero area)");
+      if (n.norm() <= 0) throw pipeline::bad_input(model_name, "part '" + part.name + "': " + element_at(e) + " is degenerate (zero area)");
       n.normalize();
       Eigen::Vector3d e1 = (P[1] - P[0]) - n * n.dot(P[1] - P[0]);
       e1.normalize();
@@ -167,8 +173,8 @@ ElementBlock setup_block(const Part& part, int part_index, const Material& mat, 
       Eigen::MatrixXd Jm = Xe.transpose() * dN[k];  // d×d, J_ij = ∂X_i/∂ξ_j
       const double det = Jm.determinant();
       if (!(det > 1e-14 * std::pow(Xe.cwiseAbs().maxCoeff() + 1e-300, d)))
-        throw pipeline::bad_input(model_name, "part '" + part.name + "': " + element_name(part.type) + " element " +
-                                                  std::to_string(e) + " is inverted or degenerate (Jacobian " +
+        throw pipeline::bad_input(model_name, "part '" + part.name + "': " + element_name(part.type) + " " +
+                                                  element_at(e) + ", is inverted or degenerate (Jacobian " +
                                                   pipeline::format_number(det) + ")");
       bsum += dN[k] * Jm.inverse() * (det * qp[k].w);  // ∂N/∂X = ∂N/∂ξ J⁻¹
       V += det * qp[k].w;

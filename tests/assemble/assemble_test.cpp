@@ -280,9 +280,18 @@ TEST(assemble_model, straps_made_for_another_placement_are_refused) {
       error_message(pipeline::ErrorKind::bad_input, [&] { meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, nullptr); });
   EXPECT_EQ(message.rfind("--straps: strap_", 0), 0u) << message;
   EXPECT_NE(message.find("mm from the respirator's rim as placed here (gap 3 mm, bridge offset 5 mm): straps was run "
-                         "with another --gap-mm, --bridge-offset-mm or respirator"),
+                         "with another --gap-mm, --bridge-offset-mm, respirator, head or landmarks file than assemble "
+                         "was given"),
             std::string::npos)
       << message;
+  // another head's landmarks (the sellion 8 mm up) move the respirator: the same message, which
+  // names the landmarks (it named only the straps' options and the respirator)
+  auto moved = s.lm;
+  moved.at("sellion").y() += 8;
+  EXPECT_NE(error_message(pipeline::ErrorKind::bad_input,
+                          [&] { meshing::assemble_model(s.head, s.resp, meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr), moved, {}, nullptr); })
+                .find("head or landmarks file than assemble was given"),
+            std::string::npos);
   meshing::PlaceOptions lower;  // assemble's --bridge-offset-mm, straps' at its default
   lower.bridge_offset_mm = 10;
   EXPECT_NE(error_message(pipeline::ErrorKind::bad_input,

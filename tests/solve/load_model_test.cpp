@@ -8,6 +8,7 @@
 #include "pipeline/error.h"
 #include "solve/load_model.h"
 #include "solve/make_block.h"
+#include "solve/solver.h"
 #include "solve/write_results.h"
 #include "../bad_input_message.h"
 #include "../scratch_dir.h"
@@ -155,6 +156,10 @@ TEST(apply_deck, a_deck_made_for_another_model_is_refused) {
             "(assemble writes the model and its decks together)");
   EXPECT_NE(message(27, 1.1).find("made for a model of 27 nodes from (0.0, 0.0, 0.0) mm to (1.0, 1.0, 1.1) mm"),
             std::string::npos);
+  // off by less than the printed 0.1 mm: the gap is named (two equal boxes were shown)
+  EXPECT_NE(message(27, 1.01).find("to (1.0, 1.0, 1.0) mm (its highest z differs by 0.01 mm): the deck"),
+            std::string::npos)
+      << message(27, 1.01);
 }
 
 // A contact's slave node without mass is named as outputs name it: by its tag, or by its 1-based
@@ -180,6 +185,12 @@ TEST(check_model, massless_slave_node_named_by_tag_or_number) {
             std::string::npos)
       << message(m);
   m.loads.clear();
+  // a group pressed on itself: refused (no force, 15 times slower steps, exit 0)
+  m.contacts.push_back({"self", "zmax", "zmax"});
+  EXPECT_NE(message(m).find("contact 'self': slave and master are both 'zmax': self-contact is not modelled"),
+            std::string::npos)
+      << message(m);
+  m.contacts.clear();
   m.initial_velocities.push_back({"loose", {0, 0, 1}});
   EXPECT_NE(message(m).find("initial_velocity[loose]: node " + std::to_string(loose + 1) + " belongs to no part"),
             std::string::npos)
@@ -209,4 +220,22 @@ TEST(check_model, a_head_model_not_in_mm_is_refused) {
     scaled.node_groups.erase("head_skin");
     EXPECT_EQ(bad_input_message([&] { solve::check_model(scaled); }), "no error");
   }
+}
+
+// An inverted element is named so that it can be found: by its place in the part (1-based) and its
+// centroid. It was "wedge6 element 100", a 0-based index within the part that neither gmsh nor
+// the file shows (its gmsh tag was 36873).
+TEST(check_model, an_inverted_element_is_named_by_where_it_is) {
+  solve::BlockSpec b;
+  b.type = solve::ElementType::wedge6;
+  b.nx = 2; b.ny = 2; b.nz = 1;
+  b.size = {2, 2, 1};
+  solve::Model m = solve::make_block(b, {"m", 1e-3, 1, 0.3, false});
+  m.control.end_time = 1;
+  std::vector<int>& conn = m.parts[0].conn;
+  const std::size_t e = 3;  // the 4th element: swap its two end triangles, turning it inside out
+  for (int a = 0; a < 3; ++a) std::swap(conn[6 * e + std::size_t(a)], conn[6 * e + 3 + std::size_t(a)]);
+  const std::string message = bad_input_message([&] { solve::Solver s(m); });
+  EXPECT_NE(message.find("part 'block': wedge6 element 4 of the part, centred at ("), std::string::npos) << message;
+  EXPECT_NE(message.find(" mm, is inverted or degenerate (Jacobian -"), std::string::npos) << message;
 }
