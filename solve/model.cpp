@@ -110,11 +110,16 @@ void check_model(const Model& m) {
   for (const auto& l : m.loads) check_group(l.group, "loads[" + l.group + "]");
   for (const auto& iv : m.initial_velocities) check_group(iv.group, "initial_velocity[" + iv.group + "]");
   std::set<std::string> names;  // a second tie or contact of one name is a copy-paste slip
+  std::map<std::pair<std::string, std::string>, std::string> tied_pairs;
   for (const auto& t : m.ties) {
     check_group(t.group_a, "tie '" + t.name + "'");
     check_group(t.group_b, "tie '" + t.name + "'");
     if (!(t.tolerance > 0)) throw bad("tie '" + t.name + "': tolerance must be > 0 [mm]");
     if (!names.insert("tie " + t.name).second) throw bad("two ties named '" + t.name + "'");
+    // The same two groups tied twice under two names was accepted, as a contact pair twice was.
+    const auto [a, b] = std::minmax(t.group_a, t.group_b);
+    if (const auto [it, first] = tied_pairs.emplace(std::make_pair(a, b), t.name); !first)
+      throw bad("ties '" + it->second + "' and '" + t.name + "' both tie '" + a + "' to '" + b + "': a pair once");
   }
   // The same slave group on the same master surface twice doubled the penalty without a word.
   std::map<std::pair<std::string, std::string>, std::string> pair_names;

@@ -191,6 +191,12 @@ TEST(check_model, massless_slave_node_named_by_tag_or_number) {
             std::string::npos)
       << message(m);
   m.contacts.clear();
+  // the same two groups tied twice under two names (either order): refused, as a contact pair twice is
+  m.ties.push_back({"glue", "zmin", "zmax", 1e-3});
+  m.ties.push_back({"again", "zmax", "zmin", 1e-3});
+  EXPECT_NE(message(m).find("ties 'glue' and 'again' both tie 'zmax' to 'zmin': a pair once"), std::string::npos)
+      << message(m);
+  m.ties.clear();
   m.initial_velocities.push_back({"loose", {0, 0, 1}});
   EXPECT_NE(message(m).find("initial_velocity[loose]: node " + std::to_string(loose + 1) + " belongs to no part"),
             std::string::npos)
