@@ -85,9 +85,18 @@ def main():
     plt.gca().set_aspect("equal")
     plt.grid(True, lw=0.3)
     plt.legend(fontsize=8)
-    tmp = a.out + ".tmp.png"
-    plt.savefig(tmp, dpi=90)
-    os.replace(tmp, a.out)
+    if not a.out.lower().endswith(".png"):
+        sys.exit(f"plot_slice: {a.out}: the output is a PNG: name it .png")
+    out_dir = os.path.dirname(os.path.abspath(a.out))
+    tmp = os.path.join(out_dir, f".tmp.{os.getpid()}.{os.path.basename(a.out)}")
+    try:
+        os.makedirs(out_dir, exist_ok=True)
+        plt.savefig(tmp, dpi=90)
+        os.replace(tmp, a.out)
+    except OSError as e:  # one line, as for the inputs (it was a traceback)
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        sys.exit(f"plot_slice: {a.out}: cannot write: {e.strerror}")
 
 
 if __name__ == "__main__":

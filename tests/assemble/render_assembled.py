@@ -5,11 +5,14 @@ Hidden surfaces are removed with a per-pixel depth buffer (hand-written, numpy):
 axes sort whole collections (painter's algorithm), which hid the straps - 1.5 mm off the skin -
 behind the head in the previous renders, and no z-buffering renderer (VTK, pyvista, gmsh's GUI) is
 available headless here. Orthographic views, flat Lambert shading, 0.4 mm pixels."""
+import os
 import sys
 
 import matplotlib
-import meshio
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "pipeline"))
+from read_mesh_or_raise import read_mesh_or_raise  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -40,6 +43,8 @@ def surface_triangles(m):
                 continue
             tris.append(m.points[t])
             cols.append(np.full(len(t), names.index(key)))
+    if not tris:
+        return np.zeros((0, 3, 3)), np.zeros(0, dtype=int)
     return np.concatenate(tris), np.concatenate(cols)
 
 
@@ -85,8 +90,15 @@ def render(tris, cols, view_dir, up, px_mm=0.4):
 
 
 def main():
-    m = meshio.read(sys.argv[1])
+    if len(sys.argv) not in (3, 4) or not sys.argv[2].lower().endswith(".png"):
+        sys.exit("usage: render_assembled.py model.msh out.png [title]")
+    try:
+        m = read_mesh_or_raise(sys.argv[1])
+    except (OSError, ValueError) as e:
+        sys.exit(f"render_assembled: {sys.argv[1]}: cannot read: {e}")
     tris, cols = surface_triangles(m)
+    if len(tris) == 0:
+        sys.exit(f"render_assembled: {sys.argv[1]}: none of the assembled model's groups ({', '.join(COLORS)})")
     views = [("front", (0, 0, 1)), ("side (from the left, face to the left)", (1, 0, 0)),
              ("back-left", (0.8, 0.25, -0.6))]
     fig, axes = plt.subplots(1, 3, figsize=(15, 6.5))
@@ -99,7 +111,15 @@ def main():
     if len(sys.argv) > 3:
         fig.suptitle(sys.argv[3])
     fig.tight_layout(rect=(0, 0.05, 1, 0.97))
-    fig.savefig(sys.argv[2], dpi=100)
+    out = sys.argv[2]
+    tmp = os.path.join(os.path.dirname(os.path.abspath(out)), f".tmp.{os.getpid()}.{os.path.basename(out)}")
+    try:
+        fig.savefig(tmp, dpi=100)
+        os.replace(tmp, out)
+    except OSError as e:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        sys.exit(f"render_assembled: {out}: cannot write: {e.strerror}")
 
 
 if __name__ == "__main__":
