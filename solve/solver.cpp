@@ -62,7 +62,7 @@ struct Solver::Impl {
   /// and stage II then began with a 318.6 N jump of the bottom strap's contact force on stage
   /// I's penetrations (31.8 N at its end; solve/README.md).
   void choose_step(double stable_free, double stable_every) {
-    dt_stable = stable_free;
+    dt_stable = std::isfinite(stable_free) ? stable_free : stable_every;
     dt_contact = m.control.dt_scale * stable_every;
     double dt_max = std::numeric_limits<double>::infinity();
     for (const auto& c : pairs) {
@@ -70,6 +70,8 @@ struct Solver::Impl {
       if (s_pen > 0) dt_max = std::min(dt_max, dt_contact * (std::sqrt(1 + xi * xi) - xi) / std::sqrt(s_pen));
     }
     dt = std::min(m.control.dt_scale * stable_free, std::max(dt_contact, dt_max));
+    // Every deformable element held and no contact: nothing else bounds the step; keep theirs.
+    if (!std::isfinite(dt)) dt = dt_contact;
   }
   double internal_energy() const {
     double w = 0;

@@ -569,6 +569,14 @@ TEST(stable_step, held_elements_do_not_bound_it) {
   ASSERT_EQ(first.steps(), resumed.steps());
   EXPECT_EQ(first.x(), resumed.x());
   EXPECT_EQ(first.x(), held.x());
+  // Every element held and no contact: the step stays the elements' own (it came out infinite).
+  solve::Model still = model(true);
+  still.contacts.clear();
+  for (int d = 0; d < 3; ++d) still.bcs.push_back({"top_all", d, solve::BcKind::fixed, {}});
+  still.loads.clear();
+  const solve::Solver all_held(still), fresh(model(false));
+  EXPECT_EQ(all_held.dt(), fresh.dt());
+  EXPECT_EQ(all_held.stable_dt(), fresh.stable_dt());
 }
 
 // Penetration guard: the block pressed on the base penetrates ~2 µm; a tolerance of 0.1 µm stops
