@@ -22,6 +22,9 @@ help:
 	@echo "make test-fast   tests not labelled slow"
 	@echo "make bench       build and run the benchmarks"
 	@echo "make cases-all   run all 30 cases"
+	@echo "make deps        install the missing Debian packages (scripts/install-deps.sh)"
+	@echo "make build       configure and build everything (programs, tests, benchmarks)"
+	@echo "make clean       remove the build folder"
 
 deps:
 	@scripts/install-deps.sh

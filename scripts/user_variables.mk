@@ -10,3 +10,16 @@ $(foreach v,$(.VARIABLES),$(if $(filter command line,$(origin $(v))),$(if $(filt
 ifneq ($(origin BUILD),command line)
 BUILD := build
 endif
+
+# A case named on the command line is checked here, before the top Makefile installs or builds
+# anything: a misspelt case (case=medium_onsize) cost the whole install and compile before
+# Makefile.cases refused it. A name with a folder in it (case=../cases/x) put the case's outputs
+# outside build/cases/.
+ifneq ($(case),)
+ifneq ($(words $(case))$(notdir $(case)),1$(case))
+$(error case '$(case)': a case is a file name of data/cases/ without .mk, e.g. medium_onesize)
+endif
+ifeq ($(wildcard data/cases/$(case).mk),)
+$(error unknown case '$(case)': no data/cases/$(case).mk)
+endif
+endif

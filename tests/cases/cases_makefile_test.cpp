@@ -254,6 +254,22 @@ TEST(cases_makefile, build_from_the_environment_is_ignored) {
   EXPECT_FALSE(fs::exists(elsewhere));
 }
 
+// A misspelt case through the top Makefile is refused when make reads it, before the Debian
+// packages are checked or anything is configured or built (it cost the whole install and compile).
+TEST(cases_makefile, an_unknown_case_is_refused_before_the_build) {
+  const fs::path out = scratch_dir() / "unknown_case.out";
+  const fs::path build = scratch_dir() / "unknown_case_build";
+  fs::remove_all(build);
+  EXPECT_NE(run_command("make --no-print-directory -C " SOURCE_DIR " case=medium_onsize BUILD=" + build.string() +
+                        " > " + out.string() + " 2>&1"),
+            0);
+  const std::string text = file_text(out);
+  EXPECT_NE(text.find("unknown case 'medium_onsize': no data/cases/medium_onsize.mk"), std::string::npos) << text;
+  EXPECT_EQ(text.find("install-deps"), std::string::npos) << text;
+  EXPECT_EQ(text.find("cmake"), std::string::npos) << text;
+  EXPECT_FALSE(fs::exists(build));
+}
+
 // make -n on a fresh clone (no program built yet) lists every stage's command, as the build that
 // `make case=...` runs first makes them all: it listed none and called every stage "not yet part
 // of the pipeline". It writes nothing.
