@@ -23,3 +23,19 @@ ifeq ($(wildcard data/cases/$(case).mk),)
 $(error unknown case '$(case)': no data/cases/$(case).mk)
 endif
 endif
+
+# The user's files, checked before anything is set up (and, through the top Makefile, before
+# anything is installed or built), and named by their real path, so the same
+# file spelt two ways is one input. Each failure was found only by a stage, after the case's
+# folders were rearranged for it: an empty value (an unset shell variable) fed the chain its own
+# inputs.txt, a missing file left an empty head/ that then replaced head.previous, and a path
+# with a space or a quote broke the rules (make splits prerequisites at spaces).
+user_file = $(if $(filter-out undefined,$(origin $(1))),\
+  $(if $(strip $($(1))),,$(error $(1) is empty: give a file, or leave $(1) out for the default))\
+  $(if $(word 2,$($(1)))$(findstring ',$($(1)))$(findstring ",$($(1))),\
+    $(error $(1)='$($(1))': make cannot take a path with a space or a quote; link or copy the file to one without))\
+  $(if $(wildcard $($(1))),,$(error $(1)=$($(1)): no such file))\
+  $(eval override $(1) := $(realpath $($(1))))$(eval USER_FILES += $(1)))
+$(call user_file,HEADFORM_SCAN)
+$(call user_file,RESPIRATOR_SCAN)
+$(call user_file,LANDMARKS)

@@ -254,9 +254,10 @@ TEST(cases_makefile, build_from_the_environment_is_ignored) {
   EXPECT_FALSE(fs::exists(elsewhere));
 }
 
-// A misspelt case through the top Makefile is refused when make reads it, before the Debian
-// packages are checked or anything is configured or built (it cost the whole install and compile).
-TEST(cases_makefile, an_unknown_case_is_refused_before_the_build) {
+// A misspelt case or a missing scan through the top Makefile is refused when make reads it, before
+// the Debian packages are checked or anything is configured or built (it cost the whole install
+// and compile).
+TEST(cases_makefile, an_unknown_case_or_a_missing_scan_is_refused_before_the_build) {
   const fs::path out = scratch_dir() / "unknown_case.out";
   const fs::path build = scratch_dir() / "unknown_case_build";
   fs::remove_all(build);
@@ -267,6 +268,12 @@ TEST(cases_makefile, an_unknown_case_is_refused_before_the_build) {
   EXPECT_NE(text.find("unknown case 'medium_onsize': no data/cases/medium_onsize.mk"), std::string::npos) << text;
   EXPECT_EQ(text.find("install-deps"), std::string::npos) << text;
   EXPECT_EQ(text.find("cmake"), std::string::npos) << text;
+  EXPECT_FALSE(fs::exists(build));
+  // a scan that is not there: the same, before the build
+  EXPECT_NE(run_command("make --no-print-directory -C " SOURCE_DIR " case=medium_onesize HEADFORM_SCAN=/nonexistent.ply "
+                        "BUILD=" + build.string() + " > " + out.string() + " 2>&1"),
+            0);
+  EXPECT_NE(file_text(out).find("HEADFORM_SCAN=/nonexistent.ply: no such file"), std::string::npos) << file_text(out);
   EXPECT_FALSE(fs::exists(build));
 }
 
