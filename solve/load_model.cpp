@@ -33,10 +33,11 @@ void add_polygon(std::vector<std::array<int, 3>>& tris, const std::vector<int>& 
   if (f.size() == 4) tris.push_back({f[0], f[2], f[3]});
 }
 
-// Boundary faces (appearing once) of the solid parts of a group.
-std::vector<std::array<int, 3>> boundary_of(const std::vector<const Part*>& parts) {
+// Boundary faces (appearing once) of solid parts, outward, as polygons of 3 or 4 nodes.
+std::vector<std::vector<int>> boundary_polygons(const std::vector<const Part*>& parts) {
   std::map<std::vector<int>, std::pair<int, std::vector<int>>> faces;
   for (const Part* p : parts) {
+    if (is_membrane(p->type)) continue;
     const int nn = nodes_per_element(p->type);
     for (std::size_t e = 0; e < p->size(); ++e)
       for (const auto& lf : solid_faces(p->type)) {
@@ -49,11 +50,19 @@ std::vector<std::array<int, 3>> boundary_of(const std::vector<const Part*>& part
         entry.second = f;
       }
   }
-  std::vector<std::array<int, 3>> tris;
+  std::vector<std::vector<int>> polygons;
   for (const auto& [key, entry] : faces)
-    if (entry.first == 1) add_polygon(tris, entry.second);
+    if (entry.first == 1) polygons.push_back(entry.second);
+  return polygons;
+}
+
+// Boundary faces of the solid parts of a group, as outward triangles.
+std::vector<std::array<int, 3>> boundary_of(const std::vector<const Part*>& parts) {
+  std::vector<std::array<int, 3>> tris;
+  for (const auto& f : boundary_polygons(parts)) add_polygon(tris, f);
   return tris;
 }
+
 
 bool gmsh_type(int t, ElementType* out) {
   switch (t) {
@@ -123,6 +132,50 @@ const json& array_of(const Deck& d, const std::string& key) {
   if (!d.j.contains(key)) return empty;
   if (!d.j[key].is_array()) throw d.bad("'" + key + "' must be an array");
   return d.j[key];
+}
+
+// A one-sided contact master given as 2D elements must face out of the solid whose boundary it
+// lies on: flipped triangles (a model edited by hand) pushed slave points through from the wrong
+// side, which showed only as a 6 mm "penetration" at the first step, or not at all where no slave
+// lay over them. `boundary` holds every solid's outward boundary faces; triangles on none are
+// not judged (a free membrane has no outside).
+void require_masters_face_out(const Deck& d, const Model& m, const std::vector<std::vector<int>>& boundary) {
+  std::map<std::array<int, 3>, const std::vector<int>*> face_of;  // any 3 nodes of a face → the face
+  for (const auto& f : boundary)
+    for (std::size_t skip = 0; skip < (f.size() == 4 ? 4u : 1u); ++skip) {
+      std::array<int, 3> key{};
+      for (std::size_t k = 0, i = 0; k < f.size(); ++k)
+        if (f.size() != 4 || k != skip) key[i++] = f[k];
+      std::sort(key.begin(), key.end());
+      face_of.emplace(key, &f);
+    }
+  for (const auto& c : m.contacts) {
+    if (c.two_sided || !m.surfaces.count(c.master)) continue;
+    const auto& tris = m.surfaces.at(c.master);
+    std::size_t flipped = 0;
+    std::string first;
+    for (const auto& t : tris) {
+      std::array<int, 3> key = t;
+      std::sort(key.begin(), key.end());
+      const auto it = face_of.find(key);
+      if (it == face_of.end()) continue;
+      const std::vector<int>& f = *it->second;
+      const long n = long(f.size());
+      const auto at = [&](int node) { return long(std::find(f.begin(), f.end(), node) - f.begin()); };
+      const long ia = at(t[0]), ib = at(t[1]), ic = at(t[2]);
+      if ((ib - ia + n) % n < (ic - ia + n) % n) continue;  // the face's own turning sense: outward
+      if (flipped++ == 0) {
+        double x[3] = {0, 0, 0};
+        for (int v : t)
+          for (int k = 0; k < 3; ++k) x[k] += m.X[3 * std::size_t(v) + std::size_t(k)] / 3;
+        first = pipeline::format_position_mm(x[0], x[1], x[2]);
+      }
+    }
+    if (flipped > 0)
+      throw d.bad("contact '" + c.name + "': " + std::to_string(flipped) + " of the " + std::to_string(tris.size()) +
+                  " triangles of master '" + c.master + "' face into the solid they lie on (the first centred at " +
+                  first + "): a master faces outward by the right-hand rule (or give the pair two_sided)");
+  }
 }
 
 }  // namespace
@@ -230,6 +283,9 @@ std::array<double, 6> model_bounds_mm(const Model& m) {
 
 void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   const Deck d{j, deck_name};
+  std::vector<const Part*> mesh_parts;  // every group of the mesh, before the deck picks its parts
+  for (const Part& p : m.parts) mesh_parts.push_back(&p);
+  const std::vector<std::vector<int>> solid_boundary = boundary_polygons(mesh_parts);
   if (j.contains("model_check")) check_deck_model(d, j["model_check"], m, m.name);
   m.name = m.name + " + " + deck_name;
   // Materials.
@@ -375,6 +431,7 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
       !key.empty())
     throw d.bad("unknown top-level key '" + key + "'");
   check_model(m);
+  require_masters_face_out(d, m, solid_boundary);
 }
 
 Model load_model(const std::string& msh_path, const std::string& deck_path) {

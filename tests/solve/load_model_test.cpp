@@ -245,3 +245,27 @@ TEST(check_model, an_inverted_element_is_named_by_where_it_is) {
   EXPECT_NE(message.find("part 'block': wedge6 element 4 of the part, centred at ("), std::string::npos) << message;
   EXPECT_NE(message.find(" mm, is inverted or degenerate (Jacobian -"), std::string::npos) << message;
 }
+
+// A one-sided master whose triangles face into the solid they lie on (a model edited by hand) is
+// refused when the deck is read: it showed only as a 6 mm "penetration" at the first step, or not
+// at all where no slave lay over it. Two-sided masters have no outside and are not judged.
+TEST(apply_deck, a_master_facing_into_its_solid_is_refused) {
+  const solve::Model base = solve::make_block({}, {"m", 1e-3, 1, 0.3, false});
+  const auto message = [&](bool flip, bool two_sided) {
+    solve::Model m = base;
+    if (flip)
+      for (auto& t : m.surfaces.at("zmax")) std::swap(t[1], t[2]);
+    const std::string deck =
+        R"({"materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.3}}, "parts": [{"group": "block", "material": "m"}], )"
+        R"("contact": [{"slave": "zmin", "master": "zmax", "two_sided": )" + std::string(two_sided ? "true" : "false") +
+        R"(}], "control": {"end_time": 1}})";
+    return bad_input_message([&] { solve::apply_deck(m, deck, "d.json"); });
+  };
+  EXPECT_EQ(message(false, false), "no error");
+  const std::size_t n = base.surfaces.at("zmax").size();
+  EXPECT_EQ(message(true, false), "d.json: contact 'zmin_on_zmax': " + std::to_string(n) + " of the " +
+                                      std::to_string(n) + " triangles of master 'zmax' face into the solid they lie on "
+                                      "(the first centred at (0.3, 0.2, 1.0) mm): a master faces outward by the "
+                                      "right-hand rule (or give the pair two_sided)");
+  EXPECT_EQ(message(true, true), "no error");
+}
