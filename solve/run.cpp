@@ -173,7 +173,8 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     s.set_state(start, m.initial_state.reset_time, m.initial_state.reset_velocity);
   // A state from past the end (a restart from a longer run) ran 0 steps and wrote its results.
   if (!(s.time() < m.control.end_time))
-    throw pipeline::bad_input(start_file, "the run starts at t = " + fmt(s.time()) + " ms, not before the end time (control.end_time, or --end-time-ms) " +
+    throw pipeline::bad_input(start_file, "the run starts at t = " + fmt(s.time()) +
+                                              " ms, not before the end time (control.end_time, or --end-time-ms) " +
                                               fmt(m.control.end_time) + " ms (" +
                                               (opt.restart.empty()
                                                    ? "initial_state.reset_time?)"
