@@ -283,6 +283,12 @@ std::array<double, 6> model_bounds_mm(const Model& m) {
 
 void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   const Deck d{j, deck_name};
+  // Unknown keys first: a misspelt required one ("contol", "Materials") was reported as missing.
+  if (const std::string key = pipeline::first_unknown_key(j, {"materials", "parts", "fixed", "prescribed", "loads",
+                                                               "initial_velocity", "ties", "contact", "initial_state",
+                                                               "control", "output", "model_check"});
+      !key.empty())
+    throw d.bad("unknown top-level key '" + key + "'");
   std::vector<const Part*> mesh_parts;  // every group of the mesh, before the deck picks its parts
   for (const Part& p : m.parts) mesh_parts.push_back(&p);
   const std::vector<std::vector<int>> solid_boundary = boundary_polygons(mesh_parts);
@@ -402,6 +408,9 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   }
   if (!j.contains("control") || !j["control"].is_object()) throw d.bad("missing 'control' object (end_time at least)");
   const json& c = j["control"];
+  require_known_keys(d, c, "control",  // before the values: "end_time_ms" was "missing 'end_time'"
+                     {"end_time", "damping_alpha", "dt_scale", "dt_target", "dt_update_interval", "hourglass",
+                      "output_interval", "history_interval", "energy_tolerance", "penetration_tolerance"});
   Control& k = m.control;
   k.end_time = num(d, c, "end_time", "control", 0, true);
   k.damping_alpha = num(d, c, "damping_alpha", "control", 0, false);
@@ -416,20 +425,12 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
   k.history_interval = num(d, c, "history_interval", "control", 0, false);
   k.energy_tolerance = num(d, c, "energy_tolerance", "control", 0.05, false);
   k.penetration_tolerance = num(d, c, "penetration_tolerance", "control", 1.0, false);
-  require_known_keys(d, c, "control",
-                     {"end_time", "damping_alpha", "dt_scale", "dt_target", "dt_update_interval", "hourglass",
-                      "output_interval", "history_interval", "energy_tolerance", "penetration_tolerance"});
   if (j.contains("output")) {
     const json& o = j["output"];
     require_known_keys(d, o, "output", {"node_data", "history_groups"});
     if (o.contains("node_data")) m.output.node_data = o["node_data"].get<std::vector<std::string>>();
     if (o.contains("history_groups")) m.output.history_groups = o["history_groups"].get<std::vector<std::string>>();
   }
-  if (const std::string key = pipeline::first_unknown_key(j, {"materials", "parts", "fixed", "prescribed", "loads",
-                                                               "initial_velocity", "ties", "contact", "initial_state",
-                                                               "control", "output", "model_check"});
-      !key.empty())
-    throw d.bad("unknown top-level key '" + key + "'");
   check_model(m);
   require_masters_face_out(d, m, solid_boundary);
 }

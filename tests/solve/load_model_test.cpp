@@ -84,6 +84,9 @@ TEST(apply_deck, errors_name_the_key) {
   for (const char* dofs : {"", "xxz"})
     EXPECT_EQ(with(std::string(R"("fixed": [{"group": "zmin", "dofs": ")") + dofs + R"("}], "control": {"end_time": 1})"),
               std::string("d.json: fixed[zmin].dofs: '") + dofs + "', expected some of x, y, z, each once");
+  // a misspelt required key is named, not reported as missing
+  EXPECT_EQ(with(R"("contol": {"end_time": 1})"), "d.json: unknown top-level key 'contol'");
+  EXPECT_EQ(with(R"("control": {"end_time_ms": 1})"), "d.json: control.end_time_ms: unknown key");
   EXPECT_EQ(with(R"("initial_state": {"file": ""}, "control": {"end_time": 1})"),
             "d.json: initial_state.file: empty (leave initial_state out to start at rest)");
   EXPECT_EQ(with(R"("ties": [{"group_a": "xmin", "group_b": "xmax", "tolerance": -1}], "control": {"end_time": 1})"),
