@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "data/generator/scanner_artifacts.h"
+#include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/read_scan.h"
 #include "pipeline/write_mesh.h"
@@ -58,6 +59,9 @@ int main(int argc, char** argv) {
   return pipeline::run_main(cli, argc, argv, [&] {
     using clock = std::chrono::steady_clock;
     auto secs = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
+    // Checked before the work: `-o /proc/pre` failed after the whole reconstruct and repair.
+    if (!out_prefix.empty())
+      pipeline::require_writable_outputs({out_prefix + "_reconstructed.ply", out_prefix + "_repaired.ply"});
     // 1. Reference surface and simulated scan
     const auto scan_in = pipeline::read_scan(mesh_path);
     const auto reference = scan2cad::internal::soup_to_mesh(scan_in.soup, nullptr);
