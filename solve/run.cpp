@@ -263,7 +263,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
       for (const char* d : {"x", "y", "z"}) forces_csv += "," + g + "_" + k + "_F" + d;
   forces_csv += "\n";
   // 3. Time loop.
-  pipeline::Progress progress("solve", std::size_t(std::max(1.0, steps_needed)),
+  pipeline::Progress progress("solve", std::size_t(std::max(1.0, std::ceil(steps_needed))),
                               opt.progress ? 2.0 : 1e30);
   const double t0 = s.time();
   double next_out = t0, next_hist = t0, emax = 0, max_pen = 0;
