@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
                                  {clean_mesh, [&] { pipeline::write_surface_mesh(clean_mesh, scan.clean_mesh); }},
                                  {holes_out, [&] { generator::write_holes_json(holes_out, scan.holes); }}});
     pipeline::log("generate_scan", std::to_string(scan.cloud.points.size()) + " points, " +
-                                       std::to_string(scan.holes.size()) + " holes -> " + out);
+                                       std::to_string(scan.holes.size()) + (scan.holes.size() == 1 ? " hole -> " : " holes -> ") + out);
     return 0;
   });
 }
