@@ -7,12 +7,20 @@ head, the range of volume / (mid-depth offset area x t) - 1 over each part's lay
 import json
 import sys
 
-print("%-20s %6s %6s %6s %5s %5s %5s  %-15s %-15s %-13s" % ("head", "wedges", "shells", "minSJ", "minV", "cross", "thin",
+if len(sys.argv) < 2 or any("=" not in a for a in sys.argv[1:]):
+    sys.exit("usage: summarize_layers_reports.py LABEL=layers_report.json ...")
+print("%-20s %6s %6s %6s %5s %5s %5s  %-15s %-15s %-13s" % ("surface", "wedges", "shells", "minSJ", "minV", "cross", "thin",
                                                           "V/(mid-A t)-1", "V/(skin-A t)-1", "full-depth"))
 for arg in sys.argv[1:]:
     label, path = arg.split("=", 1)
-    d = json.load(open(path))
-    v = d["volumes"]
+    try:
+        with open(path) as f:
+            d = json.load(f)
+        v = d["volumes"]
+        if not v:
+            raise ValueError("no volumes")
+    except (OSError, ValueError, KeyError, TypeError) as e:  # one line, not a traceback
+        sys.exit(f"summarize_layers_reports: {path}: not a layers report ({type(e).__name__}: {e})")
     mid = [x["volume_mm3"] / x["mid_area_x_thickness_mm3"] - 1 for x in v]
     skin = [x["volume_mm3"] / x["skin_area_x_thickness_mm3"] - 1 for x in v]
     full = [x["full_depth_volume_mm3"] / x["full_depth_mid_area_x_thickness_mm3"] - 1 for x in v]
