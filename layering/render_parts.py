@@ -50,7 +50,7 @@ def scalar_reader(fmt, body):
 
 
 def read_ply(path):
-    """Vertices (n, 3), faces (lists of vertex indices) and each face's part (0 where absent)."""
+    """Vertices (n, 3), faces (lists of vertex indices) and each face's part."""
     with open(path, "rb") as f:
         if f.readline().strip() != b"ply":
             raise ValueError("not a PLY file (no 'ply' on the first line)")
@@ -99,7 +99,10 @@ def read_ply(path):
     faces = [r["vertex_indices"] for r in out["face"]]
     if any(len(f) < 3 or min(f) < 0 or max(f) >= len(pts) for f in faces):
         raise ValueError("a face has fewer than 3 vertices or a vertex index out of range")
-    part = np.array([int(r.get("part", 0)) for r in out["face"]])
+    # A mesh without the property (reconstruct's, repair's) was drawn grey as back_of_head, exit 0.
+    if "part" not in out["face"][0]:
+        raise ValueError("its faces have no 'part' property: not segment's output")
+    part = np.array([int(r["part"]) for r in out["face"]])
     return pts, faces, part
 
 

@@ -243,6 +243,9 @@ TEST(render_parts_script, ascii_and_binary_give_the_same_png_and_bad_files_give_
       {"text.ply", "this is not a mesh\n"},
       {"truncated.ply", binary.substr(0, binary.size() - 7)},
       {"out_of_range.ply", ascii_ply(out_of_range)},
+      // no part labels (repair's mesh): it was drawn grey as back_of_head, exit 0
+      {"no_part.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
   };
   for (const auto& [name, bytes] : bad) {
     if (!bytes.empty()) write_file(dir / name, bytes);
