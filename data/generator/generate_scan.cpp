@@ -29,13 +29,21 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
   if (!from_mesh && rq.unit != "auto") throw usage("--unit is for --from-mesh: the generated models are in mm");
   Triangles tri;
   std::vector<Hole> model_holes;
-  std::string rim_note;
+  std::string rim_note, unit_note;
   if (from_mesh) {
     pipeline::ScanReadOptions ropt;
     ropt.unit = pipeline::parse_unit(rq.unit);
-    ropt.expected_size_mm = pipeline::expected_extent_mm(rq.kind.empty() ? "head" : rq.kind);
+    const std::string object = rq.kind.empty() ? "head" : rq.kind;
+    ropt.expected_size_mm = pipeline::expected_extent_mm(object);
     const pipeline::Scan scan = pipeline::read_scan(rq.mesh_path, ropt);
     if (!scan.is_mesh) throw pipeline::bad_input(rq.mesh_path, "is a point cloud, expected a mesh to scan");
+    // As reconstruct does: a forced unit is checked, and the unit taken is said (a mesh in cm or m
+    // was scaled to mm without a word).
+    if (ropt.unit != pipeline::Unit::automatic)
+      pipeline::require_forced_unit_plausible(rq.mesh_path, scan.unit, scan.extent_mm, object, ropt.expected_size_mm);
+    unit_note = rq.mesh_path + ": " +
+                pipeline::describe_unit(scan.unit, ropt.unit == pipeline::Unit::automatic, scan.extent_mm, object,
+                                        ropt.expected_size_mm);
     tri = triangles_of(scan.soup);
   } else if (rq.id.empty() || rq.params_path.empty()) {
     throw usage("--kind " + rq.kind + " needs --id and --params");
@@ -83,6 +91,7 @@ GeneratedScan generate_scan(const GenerateRequest& rq) {
   out.cloud = scan_surface(tri, opt, rng, &out.holes);
   if (rq.want_clean_mesh) out.clean_mesh = surface_mesh_of(tri);
   out.rim_note = rim_note;
+  out.unit_note = unit_note;
   return out;
 }
 

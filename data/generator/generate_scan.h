@@ -41,6 +41,8 @@ struct GeneratedScan {
   /// For a generated respirator: what the rim's size came to against the design, e.g. "rim
   /// 111.1 x 106.9 mm as built (design 128 x 118: ...)"; empty otherwise.
   std::string rim_note;
+  /// For --from-mesh: the unit the mesh was read in and the size that gives (pipeline::describe_unit).
+  std::string unit_note;
 };
 
 /// Builds the surface and scans it. Same request → same cloud, bit for bit.

@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
     pipeline::require_writable_outputs({out, clean_mesh, holes_out});
     // 2. Build the surface and scan it.
     const generator::GeneratedScan scan = generator::generate_scan(rq);
-    if (!scan.rim_note.empty()) pipeline::log("generate_scan", scan.rim_note);
+    for (const std::string& note : {scan.unit_note, scan.rim_note})
+      if (!note.empty()) pipeline::log("generate_scan", note);
     // 3. Write outputs atomically, all or none.
     pipeline::write_all_or_none({{out, [&] { pipeline::write_point_cloud(out, scan.cloud); }},
                                  {clean_mesh, [&] { pipeline::write_surface_mesh(clean_mesh, scan.clean_mesh); }},

@@ -133,6 +133,13 @@ TEST(generate_scan, a_given_mesh_can_be_a_respirator_or_in_any_unit) {
   EXPECT_TRUE(std::filesystem::exists(out));
   EXPECT_EQ(run("--from-mesh " + cup + " --kind respirator --unit mm --points 20000 --out " + out), 0)
       << file_text(tmp + "/stderr.txt");
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("Conforming_Invert_M.stl: unit mm (forced): largest extent 132.9 mm"),
+            std::string::npos)
+      << file_text(tmp + "/stderr.txt");
+  // a forced unit is checked as reconstruct checks it (a mesh in mm given as m was scaled to 133 m)
+  EXPECT_EQ(run("--from-mesh " + cup + " --kind respirator --unit m --points 20000 --out " + tmp + "/no.ply"), 2);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("read in m (--unit), its largest extent is 132"), std::string::npos)
+      << file_text(tmp + "/stderr.txt");
   EXPECT_EQ(run("--from-mesh " + cup + " --kind respirator --id onesize --out " + tmp + "/no.ply"), 1);
   EXPECT_NE(file_text(tmp + "/stderr.txt").find("--id and --params are for generated models"), std::string::npos)
       << file_text(tmp + "/stderr.txt");
