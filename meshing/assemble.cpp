@@ -219,12 +219,24 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
   AssembleReport r;
   r.shift = place_respirator(head, lm, resp, opt, &r.gap_mm);
   FeModel out = head;
+  // Appends m's nodes that its kept blocks use, and those blocks renumbered. The straps'
+  // attachment markers (points of their own) are replaced by rim nodes below, and their nodes
+  // are left out: kept, they were 4 nodes of no element, which gmsh drops when it converts the
+  // model to msh 2.2, and the deck's model_check then refused the converted copy.
   auto append = [&](const FeModel& m, const Eigen::Vector3d& shift, bool skip_attach) {
     const int base = int(out.nodes.size());
-    for (const auto& p : m.nodes) out.nodes.push_back(p + shift);
+    std::vector<int> index(m.nodes.size(), -1);
+    for (const Block& b : m.blocks)
+      if (!(skip_attach && b.dim == 0))
+        for (int v : b.conn) index[std::size_t(v)] = 0;
+    for (std::size_t i = 0; i < m.nodes.size(); ++i)
+      if (index[i] == 0 || !skip_attach) {
+        index[i] = int(out.nodes.size());
+        out.nodes.push_back(m.nodes[i] + shift);
+      }
     for (Block b : m.blocks) {
       if (skip_attach && b.dim == 0) continue;  // straps' attachment markers: replaced below
-      for (int& v : b.conn) v += base;
+      for (int& v : b.conn) v = index[std::size_t(v)];
       out.blocks.push_back(std::move(b));
     }
     return base;

@@ -201,6 +201,13 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   EXPECT_GE(rep.gap_mm, 3.0 - 1e-6);
   EXPECT_GT(rep.strap_gap_mm, 0.0);
   EXPECT_LT(rep.attach_offset_mm, 1e-6);  // each attachment point on a rim node
+  // Every node is an element's: the straps' attachment markers, replaced by rim nodes, had stayed
+  // as 4 nodes of no element, which gmsh drops converting to msh 2.2 (and model_check then refused).
+  std::vector<char> used(model.nodes.size(), 0);
+  for (const auto& b : model.blocks)
+    for (int v : b.conn) used[std::size_t(v)] = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
+  EXPECT_EQ(rep.nodes, model.nodes.size());
   for (const char* g : {"head_skin", "respirator_inner", "respirator_seal", "respirator_outer", "strap_top",
                         "strap_bottom", "strap_top_end_left", "strap_bottom_end_right", "attach_top_left",
                         "attach_bottom_right", "forehead_bone", "back_of_head", "left_cheek_fat"})
