@@ -107,6 +107,8 @@ void parse_hole_diameters(const std::string& text, double* min_mm, double* max_m
     } catch (...) {
       pos = 0;
     }
+    // Decimal only, as every other number option: stod took 0x10:0x14 as 16:20.
+    if (s.find_first_not_of("0123456789.eE+-") != std::string::npos) pos = 0;
     if (pos == 0 || pos != s.size() || !std::isfinite(v) || v <= 0)
       throw usage("--hole-diameter-mm: expected MIN:MAX in mm (positive numbers), got '" + text + "'");
     return v;

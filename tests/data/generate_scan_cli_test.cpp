@@ -68,6 +68,11 @@ TEST(generate_scan, help_and_bad_params_give_clear_errors) {
   EXPECT_NE(file_text(tmp + "/stderr.txt").find("--hole-diameter-mm: MIN 1e-300 mm in '1e-300:1' is narrower than 1 mm"),
             std::string::npos)
       << file_text(tmp + "/stderr.txt");
+  // hexadecimal, which stod read (0x10:0x14 as 16:20) and every other number option refuses
+  EXPECT_EQ(run("--from-mesh " + niosh + " --hole-diameter-mm 0x10:0x14 --out " + tmp + "/x.ply"), 1);
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("--hole-diameter-mm: expected MIN:MAX in mm (positive numbers), got '0x10:0x14'"),
+            std::string::npos)
+      << file_text(tmp + "/stderr.txt");
   EXPECT_EQ(run("--from-mesh " + niosh + " --points 1 --out " + tmp + "/x.ply"), 1);
   EXPECT_NE(file_text(tmp + "/stderr.txt").find("--points 1 spaces the points "), std::string::npos)
       << file_text(tmp + "/stderr.txt");
