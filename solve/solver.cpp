@@ -44,12 +44,20 @@ struct Solver::Impl {
   double e_initial = 0;
   bool e_initial_set = false;
 
-  /// Stable step of the elements in the current state [ms], of all or of those not held.
-  double compute_stable_dt(bool with_held) const {
-    double d = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < blocks.size(); ++k)
-      d = std::min(d, internal::stable_dt_for_elems(blocks[k], x.data(), mass_factor[k],
-                                                    with_held || held[k].empty() ? nullptr : &held[k]));
+  /// Stable steps of the elements in the current state [ms]: of those not held, and of all. A
+  /// block without held elements is passed over once for both (the update runs every
+  /// dt_update_interval steps, and stage II holds only its bones).
+  struct StableSteps {
+    double free, every;
+  };
+  StableSteps compute_stable_dt() const {
+    StableSteps d{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    for (std::size_t k = 0; k < blocks.size(); ++k) {
+      const double all = internal::stable_dt_for_elems(blocks[k], x.data(), mass_factor[k]);
+      d.every = std::min(d.every, all);
+      d.free = std::min(d.free, held[k].empty() ? all
+                                                : internal::stable_dt_for_elems(blocks[k], x.data(), mass_factor[k], &held[k]));
+    }
     return d;
   }
   /// The step from the stable steps of the elements not held (free) and of all (every) [ms], as
@@ -311,8 +319,8 @@ void Solver::step() {
               "', slave point at " + xyz + " mm)";
   }
   if (m.control.dt_target <= 0 && s.step % m.control.dt_update_interval == 0 && health_.empty()) {
-    const double every = s.compute_stable_dt(true);  // +inf when only rigid parts: keep the step
-    if (std::isfinite(every)) s.choose_step(s.compute_stable_dt(false), every);
+    const auto d = s.compute_stable_dt();  // every = +inf when only rigid parts: keep the step
+    if (std::isfinite(d.every)) s.choose_step(d.free, d.every);
   }
 }
 
@@ -448,8 +456,8 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
     s.e_initial = st.e_initial;
     s.e_initial_set = st.e_initial_set;
   } else {
-    const double every = s.compute_stable_dt(true);
-    if (s.m.control.dt_target <= 0 && std::isfinite(every)) s.choose_step(s.compute_stable_dt(false), every);
+    const auto d = s.compute_stable_dt();
+    if (s.m.control.dt_target <= 0 && std::isfinite(d.every)) s.choose_step(d.free, d.every);
   }
   if (reset_velocity) {
     std::fill(s.v.begin(), s.v.end(), 0.0);
