@@ -142,21 +142,20 @@ void check_model(const Model& m) {
                 "': a pair once, or its penalty counts twice");
   }
   for (const auto& g : m.output.history_groups) check_group(g, "output.history_groups");
-  for (const auto& c : m.contacts)
-    for (int id : m.group(c.slave))
-      if (!has_mass[id]) throw bad("contact '" + c.name + "': slave node " + std::to_string(m.node_tag(std::size_t(id))) + " belongs to no part (no mass)");
+  // The first node of `group` that no part gives mass is refused, named as outputs name it.
+  const auto require_mass = [&](const std::string& group, const std::string& entry, const std::string& why) {
+    for (int id : m.group(group))
+      if (!has_mass[id])
+        throw bad(entry + "node " + std::to_string(m.node_tag(std::size_t(id))) + " belongs to no part (no mass)" + why);
+  };
+  for (const auto& c : m.contacts) require_mass(c.slave, "contact '" + c.name + "': slave ", "");
   // A node without mass keeps no velocity (the update sets it to 0): a load's share on it did no
   // work and vanished, exit 0 (a deck that left the strap out of its parts lost all 10 N).
   for (const auto& l : m.loads)
-    for (int id : m.group(l.group))
-      if (!has_mass[id])
-        throw bad("loads[" + l.group + "]: node " + std::to_string(m.node_tag(std::size_t(id))) +
-                  " belongs to no part (no mass): its share of the load would be lost; give the group's elements a part");
+    require_mass(l.group, "loads[" + l.group + "]: ",
+                 ": its share of the load would be lost; give the group's elements a part");
   for (const auto& iv : m.initial_velocities)
-    for (int id : m.group(iv.group))
-      if (!has_mass[id])
-        throw bad("initial_velocity[" + iv.group + "]: node " + std::to_string(m.node_tag(std::size_t(id))) +
-                  " belongs to no part (no mass): it cannot move");
+    require_mass(iv.group, "initial_velocity[" + iv.group + "]: ", ": it cannot move");
   const Control& c = m.control;
   if (!(c.end_time > 0)) throw bad("control.end_time must be > 0");
   if (!(c.damping_alpha >= 0 && c.damping_alpha <= pipeline::max_damping_alpha_per_ms))
