@@ -289,9 +289,14 @@ void apply_deck_json(Model& m, const json& j, const std::string& deck_name) {
                                                                "control", "output", "model_check"});
       !key.empty())
     throw d.bad("unknown top-level key '" + key + "'");
-  std::vector<const Part*> mesh_parts;  // every group of the mesh, before the deck picks its parts
-  for (const Part& p : m.parts) mesh_parts.push_back(&p);
-  const std::vector<std::vector<int>> solid_boundary = boundary_polygons(mesh_parts);
+  // Every solid group of the mesh, before the deck picks its parts, bounds the contact masters
+  // (require_masters_face_out); a deck without contact needs no boundary.
+  std::vector<std::vector<int>> solid_boundary;
+  if (j.contains("contact") && j["contact"].is_array() && !j["contact"].empty()) {
+    std::vector<const Part*> mesh_parts;
+    for (const Part& p : m.parts) mesh_parts.push_back(&p);
+    solid_boundary = boundary_polygons(mesh_parts);
+  }
   if (j.contains("model_check")) check_deck_model(d, j["model_check"], m, m.name);
   m.name = m.name + " + " + deck_name;
   // Materials.
