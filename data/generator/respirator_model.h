@@ -39,8 +39,8 @@ struct RimSize {
 
 /// Builds the closed shell on `face`; `rim` (optional) gets the rim's size as built, which falls
 /// short of p.width and p.height where the face does not reach: the rim stays on the front of
-/// the face (normal·z ≥ 0.35) and between 5 mm below the sellion and 2 mm above the menton (on
-/// the average face at most ~107 mm high). @throws Error(algorithm) if the rim misses the face.
+/// the face (normal·z ≥ 0.35) and between p.nose_drop (5 mm) below the sellion and 2 mm above the
+/// menton (on the average face at most ~106 mm high). @throws Error(algorithm) if the rim misses the face.
 Triangles make_respirator(const RespiratorParams& p, const HeadShape& face, RimSize* rim = nullptr);
 
 }  // namespace generator
