@@ -182,8 +182,31 @@ std::vector<int> rim_nodes(const FeModel& resp) {
 
 double respirator_gap(const FeModel& head, const FeModel& resp) { return Gap(head, resp).at(Eigen::Vector3d::Zero()); }
 
+RimOnFace rim_to_skin(const FeModel& head, const FeModel& resp, const Eigen::Vector3d& shift) {
+  const internal::TriangleTree skin(head.nodes, head_surface(head));
+  std::vector<double> d;
+  for (int i : rim_nodes(resp)) d.push_back(skin.distance(resp.nodes[std::size_t(i)] + shift));
+  RimOnFace r;
+  r.nodes = d.size();
+  std::sort(d.begin(), d.end());
+  r.median_mm = d[d.size() / 2];
+  r.max_mm = d.back();
+  return r;
+}
+
+void require_rim_on_face(const RimOnFace& rim, double max_median_mm) {
+  if (rim.median_mm <= max_median_mm) return;
+  throw pipeline::bad_input("respirator", "placed on the face, its rim stands " + pipeline::format_number(std::round(rim.median_mm * 10) / 10) +
+                                              " mm off the skin (median of its " + std::to_string(rim.nodes) + " nodes; largest " +
+                                              pipeline::format_number(std::round(rim.max_mm * 10) / 10) + " mm), more than " +
+                                              pipeline::format_number(max_median_mm) +
+                                              " mm: a respirator that does not meet the face (is the scan a whole cup, "
+                                              "aligned with its open side toward the face, and of a size for this head? "
+                                              "--max-rim-off-mm raises the limit)");
+}
+
 Eigen::Vector3d place_respirator(const FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
-                                 const FeModel& resp, const PlaceOptions& opt, double* gap_out) {
+                                 const FeModel& resp, const PlaceOptions& opt, double* gap_out, RimOnFace* rim_out) {
   const std::vector<int> rim = rim_nodes(resp);
   double xmin = 1e300, xmax = -1e300, ytop = -1e300;
   for (int i : rim) {
@@ -210,6 +233,9 @@ Eigen::Vector3d place_respirator(const FeModel& head, const std::map<std::string
   }
   s.z() = far;  // the side that keeps at least the gap
   if (gap_out) *gap_out = gap.at(s);
+  const RimOnFace rim_fit = rim_to_skin(head, resp, s);
+  if (rim_out) *rim_out = rim_fit;
+  require_rim_on_face(rim_fit, opt.max_rim_off_mm);
   return s;
 }
 
@@ -217,7 +243,10 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
                        const std::map<std::string, Eigen::Vector3d>& lm, const PlaceOptions& opt,
                        AssembleReport* report) {
   AssembleReport r;
-  r.shift = place_respirator(head, lm, resp, opt, &r.gap_mm);
+  RimOnFace rim_fit;
+  r.shift = place_respirator(head, lm, resp, opt, &r.gap_mm, &rim_fit);
+  r.rim_median_mm = rim_fit.median_mm;
+  r.rim_max_mm = rim_fit.max_mm;
   FeModel out = head;
   // Appends m's nodes that its kept blocks use, and those blocks renumbered. The straps'
   // attachment markers (points of their own) are replaced by rim nodes below, and their nodes

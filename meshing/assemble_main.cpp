@@ -36,6 +36,8 @@ int main(int argc, char** argv) {
       .option("-S", "--state1", &state1, "stage I state file named in the stage II deck, relative to that deck's folder")
       .option("-g", "--gap-mm", &opt.gap_mm, "minimum respirator-skin gap [mm]", 0.1, 20)
       .option("-b", "--bridge-offset-mm", &opt.bridge_offset_mm, "rim top below the sellion [mm]", -30, 60)
+      .option("-R", "--max-rim-off-mm", &opt.max_rim_off_mm,
+              "refuse a respirator whose rim stands farther off the skin once placed [mm, median over its rim]", 0.1, 1000)
       .option("-t", "--strap-thickness-mm", &strap_t, "strap shell thickness [mm]", 0.1, 5);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--head", head}, {"--respirator", resp}, {"--straps", straps}, {"--landmarks", landmarks},
@@ -74,11 +76,13 @@ int main(int argc, char** argv) {
     pipeline::write_all_or_none({{out, [&] { layering::write_fe_model(model, out); }},
                                  {deck1, [&] { pipeline::write_text_atomic(deck1, d1.dump(2) + "\n"); }},
                                  {deck2, [&] { pipeline::write_text_atomic(deck2, d2.dump(2) + "\n"); }}});
-    char line[400];
+    char line[600];
     std::snprintf(line, sizeof line,
                   "%s: %zu nodes, %zu wedges, %zu strap quads; respirator shifted by (%.1f, %.1f, %.1f) mm; gap %.3f mm; "
+                  "rim %.1f mm off the skin (median; largest %.1f mm); "
                   "straps %.2f mm off the skin, attached within %.2f mm of the rim; %zu intersecting face pairs",
                   out.c_str(), rep.nodes, rep.wedges, rep.quads, rep.shift.x(), rep.shift.y(), rep.shift.z(), rep.gap_mm,
+                  rep.rim_median_mm, rep.rim_max_mm,
                   rep.strap_gap_mm, rep.attach_offset_mm, rep.intersecting_pairs);
     pipeline::log("assemble", line);
     return 0;

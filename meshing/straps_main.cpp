@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
       .option("-g", "--gap-mm", &opt.place.gap_mm, "respirator-skin gap used for the placement, as assemble's [mm]", 0.1, 20)
       .option("-b", "--bridge-offset-mm", &opt.place.bridge_offset_mm, "rim top below the sellion, as assemble's [mm]",
               -30, 60)
+      .option("-R", "--max-rim-off-mm", &opt.place.max_rim_off_mm,
+              "refuse a respirator whose rim stands farther off the skin once placed [mm, median over its rim], as assemble's",
+              0.1, 1000)
       .option("-s", "--max-stretch-percent", &opt.max_stretch_percent,
               "refuse a strap the head's outline stretches by more than this [% of its length]", 0, 1000);
   return pipeline::run_main(cli, argc, argv, [&] {

@@ -41,12 +41,27 @@ Scene& scene() {
   return s;
 }
 
+// The dome's rim is flat: placed on NIOSH medium it stands ~30 mm off the skin at the cheeks and
+// the chin, over the 15 mm at which straps and assemble refuse a respirator that does not meet the
+// face (place_respirator.a_rim_off_the_face_is_refused), so these tests raise the limit.
+meshing::PlaceOptions dome_place() {
+  meshing::PlaceOptions o;
+  o.max_rim_off_mm = 40;
+  return o;
+}
+meshing::StrapOptions dome_straps() {
+  meshing::StrapOptions o;
+  o.place = dome_place();
+  return o;
+}
+const std::string kDomeRimOption = " --max-rim-off-mm 40";
+
 }  // namespace
 
 TEST(place_respirator, gap_is_3mm_measured_and_symmetric) {
   auto& s = scene();
   double gap = 0;
-  const Eigen::Vector3d shift = meshing::place_respirator(s.head, s.lm, s.resp, {}, &gap);
+  const Eigen::Vector3d shift = meshing::place_respirator(s.head, s.lm, s.resp, dome_place(), &gap);
   layering::FeModel moved = s.resp;
   for (auto& p : moved.nodes) p += shift;
   const double measured = meshing::respirator_gap(s.head, moved);
@@ -63,13 +78,39 @@ TEST(place_respirator, gap_is_3mm_measured_and_symmetric) {
   EXPECT_NEAR(shift.x(), 0.5 * (s.lm.at("sellion").x() + s.lm.at("menton").x()), 1e-6);
 }
 
+// A respirator that does not meet the face is refused where it is placed (straps and assemble,
+// one message): the dome's flat rim, ~30 mm off the cheeks, at the default limit of 15 mm; and at
+// the raised limit the dome turned inside out, its apex on the nose and its rim away from the face,
+// as align had left a clean cup's points (sweep K).
+TEST(place_respirator, a_rim_off_the_face_is_refused) {
+  auto& s = scene();
+  meshing::RimOnFace rim;
+  const Eigen::Vector3d shift = meshing::place_respirator(s.head, s.lm, s.resp, dome_place(), nullptr, &rim);
+  std::printf("dome rim to skin: median %.2f mm, largest %.2f mm over %zu nodes\n", rim.median_mm, rim.max_mm, rim.nodes);
+  EXPECT_GT(rim.median_mm, 15.0);
+  EXPECT_LE(rim.median_mm, 40.0);
+  EXPECT_GT(rim.nodes, 10u);
+  const meshing::RimOnFace again = meshing::rim_to_skin(s.head, s.resp, shift);
+  EXPECT_EQ(again.median_mm, rim.median_mm);
+  EXPECT_EQ(again.max_mm, rim.max_mm);
+  const std::string msg = bad_input_message([&] { meshing::place_respirator(s.head, s.lm, s.resp, {}, nullptr); }, "respirator");
+  EXPECT_NE(msg.find("placed on the face, its rim stands 29.8 mm off the skin (median of its 102 nodes; largest 35 mm), "
+                     "more than 15 mm: a respirator that does not meet the face"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("--max-rim-off-mm raises the limit"), std::string::npos) << msg;
+  EXPECT_EQ(bad_input_message([&] { meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr); }, "respirator"), msg);
+  layering::FeModel inside_out = s.resp;
+  for (auto& p : inside_out.nodes) p.z() = -p.z();
+  const std::string turned = bad_input_message([&] { meshing::place_respirator(s.head, s.lm, inside_out, dome_place(), nullptr); }, "respirator");
+  EXPECT_NE(turned.find("more than 40 mm: a respirator that does not meet the face"), std::string::npos) << turned;
+}
+
 // The band is built outside the offset convex hull of the skin within its slab (1 mm wider than
 // the band on each side), so every strap node is at least min(gap + thickness/2, 1 mm) = 1 mm off
 // the skin by construction; the measured minimum checks that (signed: pseudo-normal sign).
 TEST(make_straps, straps_have_requested_length_and_stay_off_the_skin) {
   auto& s = scene();
   for (double len : {280.0, 320.0}) {
-    meshing::StrapOptions o;
+    meshing::StrapOptions o = dome_straps();
     o.length_mm = len;
     meshing::StrapReport rep;
     const auto st = meshing::make_straps(s.head, s.lm, s.resp, o, &rep);
@@ -89,7 +130,7 @@ TEST(make_straps, straps_have_requested_length_and_stay_off_the_skin) {
     EXPECT_LT(tmid.z(), 0.0);
     EXPECT_LT(bmid.z(), 0.0);
   }
-  meshing::StrapOptions too_long;
+  meshing::StrapOptions too_long = dome_straps();
   too_long.length_mm = 990;
   EXPECT_THROW(meshing::make_straps(s.head, s.lm, s.resp, too_long, nullptr), pipeline::Error);
 }
@@ -99,7 +140,7 @@ TEST(make_straps, straps_have_requested_length_and_stay_off_the_skin) {
 // stretch, and is laid once the limit allows it.
 TEST(make_straps, a_strap_the_head_would_stretch_past_the_limit_is_refused) {
   auto& s = scene();
-  meshing::StrapOptions o;
+  meshing::StrapOptions o = dome_straps();
   meshing::StrapReport rep;
   meshing::make_straps(s.head, s.lm, s.resp, o, &rep);  // 300 mm
   std::printf("outlines: top %.1f mm, bottom %.1f mm\n", rep.top_outline, rep.bottom_outline);
@@ -139,7 +180,7 @@ TEST(make_straps, top_strap_stays_below_the_crown_when_the_ears_are_high) {
   for (const auto& p : s.head.nodes)
     if (std::abs(p.x()) < 8 && p.z() < lm.at("tragion_left").z()) crown_y = std::max(crown_y, p.y());
   meshing::StrapReport rep;
-  ASSERT_NO_THROW(meshing::make_straps(s.head, lm, s.resp, {}, &rep));
+  ASSERT_NO_THROW(meshing::make_straps(s.head, lm, s.resp, dome_straps(), &rep));
   std::printf("high ears: top strap back point y = %.1f mm, crown %.1f mm, min gap %.2f mm\n", rep.top_back_y, crown_y,
               rep.min_gap);
   EXPECT_LE(rep.top_back_y, crown_y - 15 + 1e-9);
@@ -192,9 +233,9 @@ void expect_end_paths_around_the_head(const layering::FeModel& model, const nloh
 
 TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   auto& s = scene();
-  const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
+  const auto straps = meshing::make_straps(s.head, s.lm, s.resp, dome_straps(), nullptr);
   meshing::AssembleReport rep;
-  const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, &rep);
+  const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, dome_place(), &rep);
   std::printf("assembled: %zu nodes, %zu wedges, %zu quads, gap %.3f mm, strap gap %.2f mm, %zu crossings\n", rep.nodes,
               rep.wedges, rep.quads, rep.gap_mm, rep.strap_gap_mm, rep.intersecting_pairs);
   EXPECT_EQ(rep.intersecting_pairs, 0u);
@@ -252,11 +293,11 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
 TEST(require_straps_clear_for_thickness, refuses_a_thickness_the_straps_were_not_laid_for) {
   auto& s = scene();
   for (const double laid_mm : {1.0, 3.0, 5.0}) {
-    meshing::StrapOptions so;
+    meshing::StrapOptions so = dome_straps();
     so.thickness_mm = laid_mm;
     const auto straps = meshing::make_straps(s.head, s.lm, s.resp, so, nullptr);
     meshing::AssembleReport rep;
-    meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, &rep);
+    meshing::assemble_model(s.head, s.resp, straps, s.lm, dome_place(), &rep);
     std::printf("straps laid for %.0f mm: %.2f mm off the skin\n", laid_mm, rep.strap_gap_mm);
     const auto message = [&](double deck_mm) {
       return bad_input_message([&] { meshing::require_straps_clear_for_thickness(rep.strap_gap_mm, deck_mm, "straps.msh"); },
@@ -280,11 +321,11 @@ TEST(require_straps_clear_for_thickness, refuses_a_thickness_the_straps_were_not
 // the bands to points 3 mm from the rim; assemble tied them there with exit 0.
 TEST(assemble_model, straps_made_for_another_placement_are_refused) {
   auto& s = scene();
-  meshing::StrapOptions other;
+  meshing::StrapOptions other = dome_straps();
   other.place.gap_mm = 6;
   const auto straps = meshing::make_straps(s.head, s.lm, s.resp, other, nullptr);
   const std::string message =
-      error_message(pipeline::ErrorKind::bad_input, [&] { meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, nullptr); });
+      error_message(pipeline::ErrorKind::bad_input, [&] { meshing::assemble_model(s.head, s.resp, straps, s.lm, dome_place(), nullptr); });
   EXPECT_EQ(message.rfind("--straps: strap_", 0), 0u) << message;
   EXPECT_NE(message.find("mm from the respirator's rim as placed here (gap 3 mm, bridge offset 5 mm): straps was run "
                          "with another --gap-mm, --bridge-offset-mm, respirator, head or landmarks file than assemble "
@@ -296,13 +337,13 @@ TEST(assemble_model, straps_made_for_another_placement_are_refused) {
   auto moved = s.lm;
   moved.at("sellion").y() += 8;
   EXPECT_NE(error_message(pipeline::ErrorKind::bad_input,
-                          [&] { meshing::assemble_model(s.head, s.resp, meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr), moved, {}, nullptr); })
+                          [&] { meshing::assemble_model(s.head, s.resp, meshing::make_straps(s.head, s.lm, s.resp, dome_straps(), nullptr), moved, dome_place(), nullptr); })
                 .find("head or landmarks file than assemble was given"),
             std::string::npos);
-  meshing::PlaceOptions lower;  // assemble's --bridge-offset-mm, straps' at its default
+  meshing::PlaceOptions lower = dome_place();  // assemble's --bridge-offset-mm, straps' at its default
   lower.bridge_offset_mm = 10;
   EXPECT_NE(error_message(pipeline::ErrorKind::bad_input,
-                          [&] { meshing::assemble_model(s.head, s.resp, meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr), s.lm, lower, nullptr); })
+                          [&] { meshing::assemble_model(s.head, s.resp, meshing::make_straps(s.head, s.lm, s.resp, dome_straps(), nullptr), s.lm, lower, nullptr); })
                 .find("bridge offset 10 mm"),
             std::string::npos);
 }
@@ -345,7 +386,7 @@ TEST(straps_cli, a_strap_stretched_past_the_limit_gives_one_error_line_exit_2_no
   layering::write_fe_model(scene().head, head);
   layering::write_fe_model(scene().resp, resp);
   const std::string args = "straps --head " + head + " --landmarks " + scene().landmarks_path + " --respirator " + resp +
-                           " --out " + out + " --length-mm 50";
+                           " --out " + out + " --length-mm 50" + kDomeRimOption;
   std::vector<std::string> err;
   EXPECT_EQ(run_stage(args, &err), 2);
   ASSERT_EQ(err.size(), 1u);
@@ -372,14 +413,14 @@ TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outp
   // readable layered models, so the landmarks or materials are what fails
   layering::write_fe_model(scene().head, head);
   layering::write_fe_model(scene().resp, resp);
-  layering::write_fe_model(meshing::make_straps(scene().head, scene().lm, scene().resp, {}, nullptr), straps);
+  layering::write_fe_model(meshing::make_straps(scene().head, scene().lm, scene().resp, dome_straps(), nullptr), straps);
   // assemble on `landmarks` and `materials`: exit 2, one error line holding `words`, no outputs.
   auto expect_refused = [&](const std::string& landmarks, const std::string& materials, const std::string& words) {
     for (const auto& f : {out, d1, d2}) std::filesystem::remove(f);
     std::vector<std::string> err;
     EXPECT_EQ(run_stage("assemble --head " + head + " --respirator " + resp + " --straps " + straps + " --landmarks " +
                             landmarks + " --materials " + materials + " --out " + out + " --deck1 " + d1 +
-                            " --deck2 " + d2,
+                            " --deck2 " + d2 + kDomeRimOption,
                         &err),
               2);
     ASSERT_EQ(err.size(), 1u);
@@ -407,7 +448,7 @@ TEST(assemble_cli, bad_landmarks_or_materials_give_one_error_line_exit_2_no_outp
 // placement with a gap of -74 mm.
 TEST(require_straps, names_the_first_missing_strap_group) {
   auto& s = scene();
-  const layering::FeModel straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
+  const layering::FeModel straps = meshing::make_straps(s.head, s.lm, s.resp, dome_straps(), nullptr);
   auto message = [](const layering::FeModel& m) {
     return bad_input_message([&] { meshing::require_straps(m, "st.msh"); }, "st.msh");
   };
@@ -552,8 +593,8 @@ TEST(require_layered, names_a_surface_mesh_or_an_assembled_model) {
   EXPECT_EQ(message(s.resp, "head"), "no group head_skin: not a head from layers (a surface.msh, or the other body's layers.msh?)");
   EXPECT_EQ(message(s.head, "respirator"),
             "no group respirator_inner: not a respirator from layers (a surface.msh, or the other body's layers.msh?)");
-  const auto straps = meshing::make_straps(s.head, s.lm, s.resp, {}, nullptr);
-  const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, {}, nullptr);
+  const auto straps = meshing::make_straps(s.head, s.lm, s.resp, dome_straps(), nullptr);
+  const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, dome_place(), nullptr);
   EXPECT_EQ(message(model, "head"), "holds a respirator or straps: an assembled model, not a head from layers");
   EXPECT_EQ(message(model, "respirator"), "holds a head or straps: an assembled model, not a respirator from layers");
   // a wedge turned inside out (its top and bottom triangles swapped) gave straps 47 mm off
