@@ -236,6 +236,21 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
   return stats;
 }
 
+void require_respirator_sheet(const PartStats& st) {
+  // A capped cup (its rim closed) kept no rim, and went on to fail in layers with a fold "on the
+  // skin"; a surface whose two walls reconstruct had merged into one (a respirator scan with its
+  // own normals) kept 57 handles, and fit crashed in CGAL's remeshing on it (sweep K).
+  if (st.boundary_loops == 0)
+    throw pipeline::bad_input("respirator", "its inner face is closed (no rim): a respirator is open toward the face; "
+                                            "is its rim capped, or is it not a respirator?");
+  if (const int handles = (2 - st.euler - st.boundary_loops) / 2; handles > 0)
+    throw pipeline::bad_input("respirator", "its inner face has " + std::to_string(handles) + " handle" +
+                                                (handles > 1 ? "s" : "") + " (Euler characteristic " + std::to_string(st.euler) +
+                                                ", " + std::to_string(st.boundary_loops) +
+                                                " rim(s)), not a sheet: a disc or a ring was expected; were its two walls "
+                                                "merged into one (reconstruct's log: a thin shell is named there)?");
+}
+
 PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<pipeline::Kernel, CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>>>;
   if (mesh.number_of_faces() == 0) throw pipeline::bad_input("respirator", "no faces");
@@ -375,7 +390,10 @@ PartStats segment_respirator(SurfaceMesh& mesh, RespiratorSegmentInfo* info) {
     info->paired_fraction = double(paired) / double(nf);
     info->faces_dropped = drop.size();
   }
-  return part_stats(mesh, respirator_inner);
+  // 6. A sheet: a disc (a cup) or a ring (a frame with a port hole).
+  const PartStats st = part_stats(mesh, respirator_inner);
+  require_respirator_sheet(st);
+  return st;
 }
 
 }  // namespace layering

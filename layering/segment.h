@@ -92,8 +92,17 @@ struct RespiratorSegmentInfo {
 /// smooth (teeth and notches one triangle deep removed). A frame open at both ends (the real
 /// face-seal parts) gives an annulus (two rims), not a disk.
 /// @param[out] info  optional: shell or sheet, wall thickness, paired share
-/// @throws pipeline::Error(bad_input) on an empty mesh; Error(algorithm) if no inner face is found
+/// @throws pipeline::Error(bad_input) on an empty mesh, or an inner face that is not a sheet (no
+///         rim: a capped cup; handles: walls merged into one); Error(algorithm) if no inner face
+///         is found
 PartStats segment_respirator(pipeline::SurfaceMesh& mesh, RespiratorSegmentInfo* info = nullptr);
+
+/// Refuses an inner face of a respirator that is not a sheet: one with no rim (a capped cup) or
+/// with handles (2 − χ − rims > 0: the two walls of a scan merged into one). A disc (a cup) and
+/// a ring (a frame with a port hole, the real parts) pass. Called by segment_respirator.
+/// @throws pipeline::Error(bad_input) "respirator: its inner face is closed (no rim): ..." or
+///         "respirator: its inner face has 57 handles (Euler characteristic -113, 1 rim(s)), ..."
+void require_respirator_sheet(const PartStats& inner);
 
 /// Topology of the faces labelled `label` in "f:part".
 /// @throws pipeline::Error(bad_input) if the mesh has no "f:part" property

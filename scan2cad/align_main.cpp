@@ -10,7 +10,8 @@
 //   align --in build/cases/medium_onesize/head/repaired.ply --kind head --out aligned.ply --transform align.json
 //   align --in ../shared/data/respirator-parts/Flex_Face_Seal_v9-M.stl --kind respirator --out r.ply -t r.json
 #include <Eigen/Dense>
-
+#include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "pipeline/atomic_write.h"
@@ -66,7 +67,15 @@ int main(int argc, char** argv) {
         {{out, [&] { pipeline::write_surface_mesh(out, mesh); }},
          {transform_path, [&] { pipeline::write_text_atomic(transform_path, scan2cad::align_json(res, kind, scale)); }}});
     std::ostringstream summary;
-    summary << "unit scale " << scale << ", symmetry RMS " << res.symmetry_rms_mm << " mm over "
+    // What align did, which only align.json's matrix had told: a head turned 90 deg or moved 1 m
+    // logged the same lines as one already in the frame (sweep J).
+    const Eigen::AngleAxisd turn(Eigen::Matrix3d(res.transform.block<3, 3>(0, 0)));
+    const Eigen::Vector3d shift = res.transform.block<3, 1>(0, 3);
+    char moved[200];
+    std::snprintf(moved, sizeof moved, "turned %.1f deg about (%.2f, %.2f, %.2f), then moved by (%.1f, %.1f, %.1f) mm",
+                  turn.angle() * 180.0 / M_PI, turn.axis().x(), turn.axis().y(), turn.axis().z(), shift.x(), shift.y(),
+                  shift.z());
+    summary << moved << "; unit scale " << scale << ", symmetry RMS " << res.symmetry_rms_mm << " mm over "
             << std::lround(100 * res.symmetry_inliers) << "% of the surface";
     progress.finish(summary.str());
     return 0;

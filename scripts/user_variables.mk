@@ -29,12 +29,15 @@ endif
 # file spelt two ways is one input. Each failure was found only by a stage, after the case's
 # folders were rearranged for it: an empty value (an unset shell variable) fed the chain its own
 # inputs.txt, a missing file left an empty head/ that then replaced head.previous, and a path
-# with a space or a quote broke the rules (make splits prerequisites at spaces).
+# with a space or a quote broke the rules (make splits prerequisites at spaces). A folder or an
+# empty file reached the stage, after the case's old outputs had been removed (sweep J).
 user_file = $(if $(filter-out undefined,$(origin $(1))),\
   $(if $(strip $($(1))),,$(error $(1) is empty: give a file, or leave $(1) out for the default))\
   $(if $(word 2,$($(1)))$(findstring ',$($(1)))$(findstring ",$($(1))),\
     $(error $(1)='$($(1))': make cannot take a path with a space or a quote; link or copy the file to one without))\
   $(if $(wildcard $($(1))),,$(error $(1)=$($(1)): no such file))\
+  $(if $(wildcard $($(1))/.),$(error $(1)=$($(1)): is a folder, give a file))\
+  $(if $(shell [ -s '$($(1))' ] || echo empty),$(error $(1)=$($(1)): the file is empty))\
   $(eval override $(1) := $(realpath $($(1))))$(eval USER_FILES += $(1)))
 $(call user_file,HEADFORM_SCAN)
 $(call user_file,RESPIRATOR_SCAN)

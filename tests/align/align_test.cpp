@@ -1,7 +1,11 @@
 // align on the real NIOSH headforms and respirator parts, given in random poses and in metres.
 #include <gtest/gtest.h>
 
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/boost/graph/iterator.h>
+
 #include "align_helpers.h"
+#include "pipeline/error.h"
 
 using namespace align_test;
 
@@ -60,4 +64,32 @@ TEST(align, niosh_heads_keep_their_upright_frame) {
 TEST(align, respirator_parts_in_a_random_pose_recover_the_frame) {
   expect_pose_recovered("respirator-parts/Flex_Face_Seal_v9-M.stl", scan2cad::AlignKind::respirator, 3);
   expect_pose_recovered("respirator-parts/Conforming_Invert_M.stl", scan2cad::AlignKind::respirator, 4);
+}
+
+// A head with a side cut away has no symmetry plane to find the frame from: NIOSH medium with
+// everything beyond 30 mm to its left removed was aligned 176 deg off with exit 0 (sweep J; 57 %
+// of its surface matched its mirror image). Refused; the whole head matches over 99 %.
+TEST(align, a_head_missing_a_side_is_refused) {
+  auto mesh = scan2cad::load_surface_any_unit(data("headforms/NIOSH_medium_20k.stl"), 250.0);
+  const auto whole = scan2cad::align(mesh, {});
+  EXPECT_GT(whole.symmetry_inliers, 0.95);
+  scan2cad::apply_transform(mesh, whole.transform);
+  std::vector<pipeline::SurfaceMesh::Face_index> left;
+  for (auto f : mesh.faces()) {
+    double x = 0;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) x += mesh.point(v).x() / 3;
+    if (x > 30) left.push_back(f);
+  }
+  for (auto f : left) CGAL::Euler::remove_face(mesh.halfedge(f), mesh);
+  mesh.collect_garbage();
+  try {
+    scan2cad::align(mesh, {});
+    ADD_FAILURE() << "a head missing its left side was aligned";
+  } catch (const pipeline::Error& e) {
+    EXPECT_EQ(e.kind, pipeline::ErrorKind::algorithm);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("head: only "), std::string::npos) << what;
+    EXPECT_NE(what.find(" % of the surface matches its mirror image across the best symmetry plane"), std::string::npos) << what;
+    EXPECT_NE(what.find("is a side of it missing or cut away?"), std::string::npos) << what;
+  }
 }

@@ -215,6 +215,7 @@ TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
   ASSERT_TRUE(fs::exists(build_ / "cases/medium_onesize/head.previous/layers.msh"));
   fs::create_directories(build_ / "with space");
   std::ofstream(build_ / "with space/scan.ply") << "ply\n";
+  std::ofstream(build_ / "empty.ply").flush();
   const std::string before = folder_state(build_);
   const std::pair<std::string, std::string> refused[] = {
       {"HEADFORM_SCAN=/nonexistent.stl", "HEADFORM_SCAN=/nonexistent.stl: no such file"},
@@ -224,6 +225,8 @@ TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
       {"HEADFORM_UNIT=in", "HEADFORM_UNIT=in without HEADFORM_SCAN=: the generated scans are in mm"},
       {"HEADFORM_SCAN=" + scan.string() + " HEADFORM_UNIT=ft", "HEADFORM_UNIT=ft: expected auto, mm, cm, m or in"},
       {"LANDMARKS=/nonexistent.json", "LANDMARKS=/nonexistent.json: no such file"},
+      {"LANDMARKS=" + build_.string(), ": is a folder, give a file"},
+      {"RESPIRATOR_SCAN=" + (build_ / "empty.ply").string(), "empty.ply: the file is empty"},
   };
   for (const auto& [args, expected] : refused) {
     EXPECT_NE(make("case=medium_onesize " + args, &ran), 0) << args;
@@ -233,6 +236,15 @@ TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
   }
   EXPECT_NE(make("case=../cases/medium_onesize", &ran), 0);
   EXPECT_NE(file_text(build_ / "make.out").find("a case is a file name of data/cases/ without .mk"), std::string::npos);
+  // a run on another scan that fails at its first stage leaves an own folder of only inputs.txt;
+  // back on the generated head, that folder is removed and head.previous keeps the whole chain
+  // (it was replaced by the folder of inputs.txt: sweep J)
+  const fs::path scan2 = build_ / "my_other_head.ply";
+  std::ofstream(scan2) << "ply other\n";
+  EXPECT_NE(make("case=medium_onesize HEADFORM_SCAN=" + scan2.string(), &ran, "FAIL_STAGE=reconstruct"), 0);
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  EXPECT_TRUE(fs::exists(build_ / "cases/medium_onesize/head.previous/layers.msh")) << log_text(ran);
+  EXPECT_TRUE(fs::is_symlink(build_ / "cases/medium_onesize/head"));
   // the case's own landmarks output given back as LANDMARKS (it made a circular rule)
   ASSERT_EQ(make("case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0);
   const std::string own = (build_ / "cases/medium_onesize/head/landmarks.json").string();

@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "data/generator/head_model.h"
@@ -22,6 +24,7 @@
 #include "layering/layers.h"
 #include "layering/segment.h"
 #include "meshing/surface_mesh.h"
+#include "pipeline/error.h"
 #include "pipeline/gmsh_session.h"
 #include "scan2cad/align.h"
 #include "scan2cad/fit.h"
@@ -303,4 +306,71 @@ TEST(respirator_cli, clean_cup_through_the_stage_programs_and_bad_input) {
   EXPECT_EQ(run_stage("fit --kind respirator --in " + d + "aligned.ply --out " + d + "bad.ply", &err), 2);
   EXPECT_NE(err.find("aligned.ply: parts: no face property \"part\" (run segment first)"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d + "bad.ply"));
+}
+
+// The clean onesize cup's vertices as a scan (both sides of its 1.5 mm wall, no noise), once with
+// outward normals and once without (sweep K). With its normals, reconstruct had meshed both sides
+// into one surface: repair left 57 handles, segment passed it and fit crashed (SIGSEGV). Without,
+// align had turned the cup inside out (its rim band came out sparse, and the wider-end guess took
+// the dome's end). Both now go through: normals not used for a respirator, the open side found
+// from the rim, an inner face that is a disc.
+TEST(respirator_cli, a_clean_cups_points_with_or_without_normals_go_through_right_side_out) {
+  fs::create_directories(dir);
+  SurfaceMesh cup = clean_cup("onesize");
+  PMP::orient_to_bound_a_volume(cup);
+  auto normal = cup.add_property_map<SurfaceMesh::Vertex_index, pipeline::Vector>("v:n").first;
+  PMP::compute_vertex_normals(cup, normal);
+  for (bool with_normals : {true, false}) {
+    const std::string d = dir.string() + (with_normals ? "/pn_" : "/p_");
+    {
+      std::ofstream out(d + "scan.xyz");
+      out.precision(9);
+      for (auto v : cup.vertices()) {
+        const auto& p = cup.point(v);
+        out << p.x() << ' ' << p.y() << ' ' << p.z();
+        if (with_normals) out << ' ' << normal[v].x() << ' ' << normal[v].y() << ' ' << normal[v].z();
+        out << '\n';
+      }
+    }
+    std::string err;
+    ASSERT_EQ(run_stage("reconstruct --kind respirator --in " + d + "scan.xyz --out " + d + "reconstructed.ply", &err), 0) << err;
+    EXPECT_EQ(err.find("normals are not used for a respirator") != std::string::npos, with_normals) << err;
+    EXPECT_NE(err.find("(thin shell, wall 1."), std::string::npos) << err;
+    ASSERT_EQ(run_stage("repair --kind respirator --in " + d + "reconstructed.ply --out " + d + "repaired.ply", &err), 0) << err;
+    ASSERT_EQ(run_stage("align --kind respirator --in " + d + "repaired.ply --out " + d + "aligned.ply --transform " + d +
+                            "align.json", &err), 0) << err;
+    // The generator builds the cup in the head frame: its z axis stays +z (the baseline turns it
+    // by ~12 deg; inside out, the matrix's (z, z) entry was -0.98).
+    const auto frame = nlohmann::json::parse(file_text(d + "align.json"))["matrix"];
+    EXPECT_GT(frame[2][2].get<double>(), 0.9) << with_normals;
+    ASSERT_EQ(run_stage("segment --kind respirator --in " + d + "aligned.ply --out " + d + "segmented.ply", &err), 0) << err;
+    EXPECT_NE(err.find("euler 1  boundary loops 1"), std::string::npos) << err;
+    EXPECT_EQ(run_stage("fit --kind respirator --in " + d + "segmented.ply --out " + d + "fitted.ply", &err), 0) << err;
+  }
+}
+
+// The inner face of a respirator is a disc (a cup) or a ring (the real parts, with a port hole);
+// one with no rim (a capped cup) or with handles (both walls merged) is refused by segment.
+TEST(segment_respirator, an_inner_face_that_is_not_a_sheet_is_refused) {
+  auto stats = [](int euler, int loops) {
+    layering::PartStats s;
+    s.euler = euler, s.boundary_loops = loops;
+    return s;
+  };
+  EXPECT_NO_THROW(layering::require_respirator_sheet(stats(1, 1)));
+  EXPECT_NO_THROW(layering::require_respirator_sheet(stats(0, 2)));
+  auto message = [&](int euler, int loops) {
+    try {
+      layering::require_respirator_sheet(stats(euler, loops));
+    } catch (const pipeline::Error& e) {
+      EXPECT_EQ(e.kind, pipeline::ErrorKind::bad_input);
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message(2, 0), "respirator: its inner face is closed (no rim): a respirator is open toward the face; is its "
+                           "rim capped, or is it not a respirator?");
+  EXPECT_EQ(message(-113, 1).rfind("respirator: its inner face has 57 handles (Euler characteristic -113, 1 rim(s)), not a "
+                                   "sheet", 0), 0u) << message(-113, 1);
+  EXPECT_NE(message(-1, 1).find("has 1 handle (Euler"), std::string::npos) << message(-1, 1);
 }

@@ -10,10 +10,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <CGAL/boost/graph/Euler_operations.h>
 #include <nlohmann/json.hpp>
 
 #include "layering/internal/segment_landmarks.h"
@@ -21,6 +23,7 @@
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/write_mesh.h"
 #include "../bad_input_message.h"
 #include "../niosh_medium_ply.h"
 #include "../file_text.h"
@@ -145,6 +148,55 @@ TEST(segment_cli, landmarks_off_the_head_are_refused_naming_the_file) {
   EXPECT_NE(last.find(" mm from the head surface, expected <= 10 mm (same frame as the aligned head?)"),
             std::string::npos)
       << last;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// segment cuts the parts in the head frame. A head turned 15 deg with its landmarks turned alike
+// (so on its surface) gave cheeks half their size with exit 0, and an open, unrepaired head went
+// through to fail at straps with a strap-length message (sweep J). Both are refused, naming the
+// file; the raw NIOSH medium STL (3.0 deg off) is still taken (the test above).
+TEST(segment_cli, a_turned_or_open_head_is_refused_naming_the_file) {
+  const std::string ply = niosh_medium_ply();
+  const std::string dir = fs::path(ply).parent_path();
+  const double a = 15 * M_PI / 180, c = std::cos(a), s = std::sin(a);  // pitch about x
+  auto turned = [&](double y, double z) { return std::pair<double, double>{c * y - s * z, s * y + c * z}; };
+  pipeline::SurfaceMesh head = pipeline::read_surface_mesh(ply);
+  for (auto v : head.vertices()) {
+    const auto& p = head.point(v);
+    const auto [y, z] = turned(p.y(), p.z());
+    head.point(v) = pipeline::Point(p.x(), y, z);
+  }
+  const std::string turned_ply = dir + "/turned.ply", turned_lm = dir + "/turned_landmarks.json";
+  pipeline::write_surface_mesh(turned_ply, head);
+  auto lm = nlohmann::json::parse(file_text(fixture));
+  for (auto& [name, l] : lm["landmarks"].items()) {
+    const auto [y, z] = turned(l["position"][1].get<double>(), l["position"][2].get<double>());
+    l["position"][1] = y, l["position"][2] = z;
+  }
+  pipeline::write_text_atomic(turned_lm, lm.dump());
+  const std::string out = dir + "/turned_segmented.ply", err = dir + "/turned_err.txt";
+  EXPECT_EQ(run_command(std::string(BIN_DIR) + "/segment --in " + turned_ply + " --landmarks " + turned_lm + " --out " +
+                        out + " 2> " + err), 2);
+  // 12 deg: the 15 deg pitch less the raw STL's own tilt
+  EXPECT_EQ(last_line_of(err).rfind("segment: " + turned_ply + ": the head is turned 12 deg from the head frame", 0), 0u)
+      << last_line_of(err);
+  EXPECT_FALSE(fs::exists(out));
+  // the same head, upright, with a hole in its crown (every face at a vertex above y = 115): open
+  pipeline::SurfaceMesh open = pipeline::read_surface_mesh(ply);
+  std::set<pipeline::SurfaceMesh::Face_index> crown;
+  for (auto v : open.vertices())
+    if (open.point(v).y() > 115)
+      for (auto f : CGAL::faces_around_target(open.halfedge(v), open))
+        if (f != pipeline::SurfaceMesh::null_face()) crown.insert(f);
+  ASSERT_FALSE(crown.empty());
+  for (auto f : crown) CGAL::Euler::remove_face(open.halfedge(f), open);
+  open.collect_garbage();
+  const std::string open_ply = dir + "/open.ply";
+  pipeline::write_surface_mesh(open_ply, open);
+  EXPECT_EQ(run_command(std::string(BIN_DIR) + "/segment --in " + open_ply + " --landmarks " + fixture + " --out " + out +
+                        " 2> " + err), 2);
+  EXPECT_EQ(last_line_of(err).rfind("segment: " + open_ply + ": the head's surface is open (", 0), 0u) << last_line_of(err);
+  EXPECT_NE(last_line_of(err).find("run repair first"), std::string::npos);
   EXPECT_FALSE(fs::exists(out));
 }
 
