@@ -13,7 +13,10 @@
 ///   2. reaches beyond the object: at least min_beyond_share of its points lie more than
 ///      outline_gap_mm outside the object's outline on it, the convex hull of the other points
 ///      projected onto the plane. A headform's flat neck cap (NIOSH medium's, 135 mm across) and
-///      a generated cup's flat part lie within the outline and are kept; a table shows around it.
+///      a generated cup's flat part lie within the outline and are kept; a table shows around it;
+///   3. is as wide as the object: its points span at least min_outline_width_share of the
+///      outline's larger side (in the plane's own axes). A cup's side past a large scan hole
+///      reached 27 % beyond it.
 /// Removed are every point beyond the plane, every point within its contact band (the table's own
 /// noise: the table, and a neck cap that stands on it; repair closes the neck again), and the
 /// points within the wider removal band (a table not quite flat) except where the object stands
@@ -39,6 +42,8 @@ struct SupportPlaneOptions {
   double max_other_side_share = 0.01;
   double outline_gap_mm = 10.0;
   double min_beyond_share = 0.2;
+  /// the plane's points span at least this share of the object's outline on it (in its axes)
+  double min_outline_width_share = 1.0;
   /// outside the object's outline (by more than outline_margin_mm), points within max(this,
   /// 4 × the plane points' RMS distance) of the plane are removed [mm]
   double min_removal_band_mm = 2.0;
@@ -57,6 +62,7 @@ struct SupportPlane {
   std::size_t points_removed = 0;
   double beyond_share = 0;    ///< share of the plane's sample points beyond the object's outline
   double width_mm = 0;        ///< largest extent of the plane's sample points
+  double outline_width_mm = 0;  ///< the object's outline on the plane: its larger side [mm]
   double removal_band_mm = 0;
   double contact_band_mm = 0;
   double footprint_margin_mm = 0;

@@ -374,3 +374,21 @@ TEST(segment_respirator, an_inner_face_that_is_not_a_sheet_is_refused) {
                                    "sheet", 0), 0u) << message(-113, 1);
   EXPECT_NE(message(-1, 1).find("has 1 handle (Euler"), std::string::npos) << message(-1, 1);
 }
+
+// A cup with three 30-40 mm scan holes: repair took a 58 mm patch of its side, past a hole, for
+// a table (27 % of it beyond the cup's outline) and cut away a quarter of the cup; the chain then
+// failed in layers with a distorted triangle (sweep K). A table is as wide as what stands on it.
+TEST(respirator_cli, a_cup_with_large_scan_holes_keeps_its_side) {
+  fs::create_directories(dir);
+  const std::string d = dir.string() + "/holes_";
+  std::string err;
+  ASSERT_EQ(run_stage("generate_scan --kind respirator --id onesize --params " + std::string(SOURCE_DIR) +
+                          "/data/generator/respirators.json --holes 3 --hole-diameter-mm 30:40 --out " + d + "scan.ply",
+                      &err), 0) << err;
+  ASSERT_EQ(run_stage("reconstruct --kind respirator --in " + d + "scan.ply --out " + d + "reconstructed.ply", &err), 0) << err;
+  EXPECT_EQ(err.find("of a plane the object stood on"), std::string::npos) << err;
+  ASSERT_EQ(run_stage("repair --kind respirator --in " + d + "reconstructed.ply --out " + d + "repaired.ply --report " + d +
+                          "report.json", &err), 0) << err;
+  EXPECT_EQ(err.find("of a plane the object stood on"), std::string::npos) << err;
+  EXPECT_EQ(nlohmann::json::parse(file_text(d + "report.json"))["support_faces_removed"].get<int>(), 0);
+}

@@ -83,6 +83,7 @@ TEST(remove_support_plane, a_head_that_stood_on_nothing_keeps_every_point_and_it
   // beyond the head (with no share asked for beyond it, it is taken: 135 mm across)
   scan2cad::SupportPlaneOptions any_share;
   any_share.min_beyond_share = 0;
+  any_share.min_outline_width_share = 0;
   const scan2cad::SupportPlane cap = scan2cad::remove_support_plane(pn, any_share);
   EXPECT_TRUE(cap.found);
   EXPECT_EQ(cap.beyond_share, 0.0);
@@ -203,6 +204,7 @@ TEST(remove_support_plane, a_cups_flat_front_is_kept) {
   const std::size_t n = pn.size();
   scan2cad::SupportPlaneOptions any_share;
   any_share.min_beyond_share = 0;
+  any_share.min_outline_width_share = 0;
   auto copy = pn;
   const scan2cad::SupportPlane front = scan2cad::remove_support_plane(copy, any_share);
   std::printf("cup: plane %.1f mm across, normal (%.2f %.2f %.2f), %.0f %% beyond\n", front.width_mm,
