@@ -86,6 +86,22 @@ std::map<std::string, Landmark> read_landmarks(const std::string& path, const st
   // The profile in y (up): a head upside down, or sellion and menton swapped by hand, passed
   // landmarks --user, straps and assemble (only segment checked it).
   const auto sel = out.find("sellion"), men = out.find("menton"), prn = out.find("pronasale");
+  // A file in cm or m was reported as a head not aligned (menton not 30 mm below the sellion).
+  if (sel != out.end() && men != out.end()) {
+    const double face = (sel->second.position - men->second.position).norm();
+    auto adult = [](double mm) { return mm >= 60 && mm <= 200; };
+    if (face < 30 && (adult(10 * face) || adult(1000 * face)))
+      throw bad_input(path, "sellion and menton are " + format_number(face) + " apart, and no face is under 30 mm: landmarks in " +
+                                (adult(10 * face) ? "cm" : "m") + "? (positions are in mm, in align's frame)");
+  }
+  // The midline: a menton 25 mm to the side was taken, and the respirator placed 12 mm off
+  // centre (sweep J). The detected ones lie on x = 0 (align's symmetry plane).
+  constexpr double max_midline_x_mm = 10;
+  for (const char* name : {"sellion", "pronasale", "menton"})
+    if (const auto it = out.find(name); it != out.end() && !(std::abs(it->second.position.x()) <= max_midline_x_mm))
+      throw bad_input(path, std::string("landmark ") + name + ": x = " + format_number(it->second.position.x()) +
+                                ", expected within " + format_number(max_midline_x_mm) +
+                                " mm of the symmetry plane x = 0: is the head aligned, or the point picked off the midline?");
   if (sel != out.end() && men != out.end() && !(men->second.position.y() < sel->second.position.y() - 30.0))
     throw bad_input(path, "menton y " + format_number(men->second.position.y()) + " not at least 30 mm below sellion y " +
                               format_number(sel->second.position.y()) + ": is the head aligned (y up)?");

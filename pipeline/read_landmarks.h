@@ -37,7 +37,9 @@ bool is_head_landmark_name(const std::string& name);
 /// @throws Error(bad_input) naming `path` and the first problem: no "landmarks" object; a position
 ///         that is not three finite numbers; an unknown key in a landmark; a confidence that is
 ///         not a number in [0, 1]; a required name missing; a "*_left" landmark at x <= 0 or a
-///         "*_right" one at x >= 0 (a mirrored head, or one not in align's frame); a menton less
+///         "*_right" one at x >= 0 (a mirrored head, or one not in align's frame); sellion and
+///         menton under 30 mm apart where 10 or 1000 times that is an adult's face (60-200 mm: a
+///         file in cm or m); a sellion, pronasale or menton more than 10 mm off x = 0; a menton less
 ///         than 30 mm below the sellion (a head not y-up, or the two swapped), a pronasale not
 ///         between them in y, or a gonion less than 20 mm below the tragion of its side (on the
 ///         NIOSH and generated heads it is 51-73 mm below).

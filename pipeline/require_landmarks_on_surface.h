@@ -21,7 +21,9 @@ namespace pipeline {
 ///                       10 mm leaves room for a point picked by hand on a coarser copy
 /// @throws Error(bad_input) "<path>: landmark menton is 15.9 mm from the head surface, expected
 ///         <= 10 mm (same frame as the aligned head?)" for the first landmark, by name, too far.
+/// @param[out] distances_mm  optional: each landmark's distance to the surface [mm], by name
 void require_landmarks_on_surface(const std::map<std::string, Landmark>& landmarks, const SurfaceMesh& surface,
-                                  const std::string& path, double max_mm = 10.0);
+                                  const std::string& path, double max_mm = 10.0,
+                                  std::map<std::string, double>* distances_mm = nullptr);
 
 }  // namespace pipeline

@@ -86,8 +86,8 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
         ss << "largest extent " << (u == Unit::mm ? "" : format_number(extent) + " is ")
            << format_number(std::round(size_mm * 10) / 10) << " mm" << (u == Unit::mm ? "" : " in " + unit_name(u))
            << ", under " << smallest_real_share_of_extent << " of an object of about " << expected_mm
-           << " mm: an object of another kind (see --kind)? If the size is right, force the unit with --unit "
-           << unit_name(u);
+           << " mm: an object of another kind (see --kind), or in another unit (see --unit)? align refuses an "
+           << "object of that size";
       throw bad_input(what, ss.str());
     }
     return u;

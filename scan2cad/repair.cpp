@@ -125,8 +125,8 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
     throw pipeline::bad_input("mesh", "it spans " + pipeline::format_number(extent_mm) + " mm, over the " +
                                           pipeline::format_number(opt.max_extent_mm) + " mm of the largest " +
                                           scan_kind_name(kind) +
-                                          ": an object of another kind (see --kind), or more than the object? If "
-                                          "the size is right, force the unit with --unit");
+                                          ": an object of another kind (see --kind), more than the object, or in "
+                                          "another unit (see --unit)? align refuses an object of that size");
 
   // 3. Spikes.
   progress.step("spikes");

@@ -268,6 +268,8 @@ std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pi
                                                  " (remesh the surface)");
     }
   const auto nbr = skin_neighbours(in);
+  // the surface the wedges grow from, for the messages: a respirator has no skin (sweep K)
+  const std::string surface = opt.kind == "respirator" ? "inner face" : "skin";
   std::string last;  // the last pass's bad wedges: how many, what and where, for the error
   std::set<Tri> last_bad;  // and their skin triangles
   for (int iter = 0; iter < opt.max_fix_iterations; ++iter) {
@@ -321,7 +323,7 @@ std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pi
       if (bad.empty()) return pairs.size();  // pairs of shell triangles: no column moves them
     }
     if (progress) progress->step("fix pass " + std::to_string(iter + 1) + ": " + std::to_string(bad.size()) + " " + what);
-    last = std::to_string(bad.size()) + " " + what + ", the first on the skin at " + centroid(x, owner[*bad.begin()].first);
+    last = std::to_string(bad.size()) + " " + what + ", the first on the " + surface + " at " + centroid(x, owner[*bad.begin()].first);
     // Two causes, two fixes. If the wedge's skin triangle with its column directions (depth-free:
     // a 0.1 mm prism) is already below the threshold, the columns lean too far: turn them toward
     // the triangle's normal and keep the depth. Otherwise the deep part is squeezed: thin locally.
@@ -354,7 +356,7 @@ std::size_t fix_columns(const Input& in, const LayerOptions& opt, Columns& c, pi
   }
   throw pipeline::Error(pipeline::ErrorKind::algorithm,
                         "wedges still inverted, distorted or intersecting after " + std::to_string(opt.max_fix_iterations) +
-                            " thinning passes: " + last + "; the skin's sharpest fold there is " +
+                            " thinning passes: " + last + "; the " + surface + "'s sharpest fold there is " +
                             sharpest_fold(x, in.parts, last_bad) + " (a fold or a gap narrower than the layers?)");
 }
 

@@ -114,6 +114,19 @@ TEST(landmarks_cli, user_file_replaces_detection) {
   ASSERT_EQ(run("--in " + head + " --user " + (dir / "user.json").string() + " --out " + out()), 0);
   for (auto& [name, p] : user["landmarks"].items())
     for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(got["landmarks"][name]["position"][k].get<double>(), p["position"][k].get<double>()) << name;
+  // A point in the air, and points far from where detection puts them (another head's), are kept
+  // and said (sweep J: both had gone through every stage without a word).
+  nlohmann::json odd = user;
+  odd["landmarks"]["sellion"]["position"][2] = odd["landmarks"]["sellion"]["position"][2].get<double>() + 6;
+  odd["landmarks"]["tragion_left"]["position"][1] = odd["landmarks"]["tragion_left"]["position"][1].get<double>() + 30;
+  write(dir / "odd.json", odd.dump());
+  ASSERT_EQ(run("--in " + head + " --user " + (dir / "odd.json").string() + " --out " + out()), 0);
+  std::string log;
+  for (const auto& l : error_lines()) log += l + "\n";
+  EXPECT_NE(log.find("landmark sellion is 6.4 mm off the head's surface; kept where it is"), std::string::npos) << log;
+  EXPECT_NE(log.find("landmark tragion_left is 30"), std::string::npos) << log;
+  EXPECT_NE(log.find("mm from where detection puts it on this head (confidence "), std::string::npos) << log;
+  EXPECT_EQ(log.find("landmark menton is"), std::string::npos) << log;  // 0.5 mm: no note
   // A user's point far from the surface (wrong frame) is bad input naming the file.
   user["landmarks"]["menton"]["position"][1] = -500.0;
   write(dir / "far.json", user.dump());

@@ -152,3 +152,23 @@ TEST(read_landmarks, refuses_a_profile_out_of_order_in_y) {
   pipeline::write_text_atomic(path, two.dump());
   EXPECT_EQ(bad_input_message([&] { pipeline::read_landmarks(path, {"sellion", "menton"}); }, path), "no error");
 }
+
+// A file in cm or m had been reported as a head not aligned, and a menton 25 mm to the side was
+// taken and put the respirator 12 mm off centre (sweep J).
+TEST(read_landmarks, a_file_in_cm_or_m_and_a_midline_point_to_the_side_are_named) {
+  auto scaled = [](double f) {
+    nlohmann::json j = nine_landmarks();
+    for (auto& [name, l] : j["landmarks"].items())
+      for (auto& c : l["position"]) c = c.get<double>() * f;
+    return j;
+  };
+  EXPECT_EQ(message_for(scaled(0.1)), "sellion and menton are 11 apart, and no face is under 30 mm: landmarks in cm? "
+                                      "(positions are in mm, in align's frame)");
+  EXPECT_EQ(message_for(scaled(0.001)).rfind("sellion and menton are 0.11 apart, and no face is under 30 mm: landmarks in m?", 0), 0u);
+  nlohmann::json side = nine_landmarks();
+  side["landmarks"]["menton"]["position"][0] = 25.0;
+  EXPECT_EQ(message_for(side), "landmark menton: x = 25, expected within 10 mm of the symmetry plane x = 0: is the head "
+                               "aligned, or the point picked off the midline?");
+  side["landmarks"]["menton"]["position"][0] = -9.5;  // a real face's asymmetry
+  EXPECT_EQ(message_for(side), "no error");
+}

@@ -41,7 +41,8 @@ TEST(detect_unit, a_size_that_may_be_cm_or_inches_is_refused_not_guessed) {
 TEST(detect_unit, a_head_smaller_than_any_adults_is_refused_in_mm_and_m) {
   const std::string cup_as_head = bad_input_message([] { pipeline::detect_unit(111.8, 250, "r.ply"); }, "r.ply");
   EXPECT_EQ(cup_as_head, "largest extent 111.8 mm, under 0.6 of an object of about 250 mm: an object of "
-                         "another kind (see --kind)? If the size is right, force the unit with --unit mm");
+                         "another kind (see --kind), or in another unit (see --unit)? align refuses an object of "
+                         "that size");
   const std::string in_m = bad_input_message([] { pipeline::detect_unit(0.1118, 250, "r.ply"); }, "r.ply");
   EXPECT_NE(in_m.find("largest extent 0.1118 is 111.8 mm in m, under 0.6"), std::string::npos) << in_m;
   EXPECT_EQ(pipeline::detect_unit(151, 250, "h"), Unit::mm);  // a small head's face-only scan
