@@ -131,7 +131,7 @@ TEST(generate_scan, a_given_mesh_can_be_a_respirator_or_in_any_unit) {
   const std::string cup = std::string(SHARED_DATA_DIR) + "/respirator-parts/Conforming_Invert_M.stl";
   const std::string out = tmp + "/cup.ply";
   EXPECT_EQ(run("--from-mesh " + cup + " --points 20000 --out " + out), 2);
-  EXPECT_NE(file_text(tmp + "/stderr.txt").find("an object of another kind (see --kind)?"), std::string::npos)
+  EXPECT_NE(file_text(tmp + "/stderr.txt").find("an object of another kind (see --kind), or in another unit (see --unit)?"), std::string::npos)
       << file_text(tmp + "/stderr.txt");
   EXPECT_EQ(run("--from-mesh " + cup + " --kind respirator --points 20000 --out " + out), 0)
       << file_text(tmp + "/stderr.txt");
