@@ -74,7 +74,11 @@ nlohmann::json parse_json(const std::string& text, const std::string& name) {
     RepeatedKeyCheck check(name);
     return nlohmann::json::parse(text, std::ref(check));
   } catch (const nlohmann::json::exception& e) {
-    throw bad_input(name, "not valid JSON: " + json_error_text(e));
+    // Python's json.dump writes NaN and Infinity, which JSON has not: the parser's own message
+    // ("invalid literal; last read: '...N'") did not say so (sweep J).
+    const bool non_finite = text.find("NaN") != std::string::npos || text.find("Infinity") != std::string::npos;
+    throw bad_input(name, "not valid JSON: " + json_error_text(e) +
+                              (non_finite ? " (NaN and Infinity are not JSON numbers: write finite numbers)" : ""));
   }
 }
 

@@ -17,11 +17,13 @@ bool ends_with(const std::string& s, const std::string& tail) {
 }
 
 Landmark landmark_of(const nlohmann::json& v, const std::string& path, const std::string& what) {
+  // "confidence" is optional: a misspelt one ("confidnce": 0.2) was read as absent, as 1. Named
+  // first, so that "Position" is named too (it had got '"position" is not [x, y, z]').
+  if (v.is_object())
+    if (const std::string key = first_unknown_key(v, {"position", "confidence"}); !key.empty())
+      throw bad_input(path, what + ": unknown key \"" + key + "\" (a landmark has \"position\" and \"confidence\")");
   if (!v.is_object() || !v.contains("position") || !v["position"].is_array() || v["position"].size() != 3)
     throw bad_input(path, what + ": \"position\" is not [x, y, z]");
-  // "confidence" is optional: a misspelt one ("confidnce": 0.2) was read as absent, as 1
-  if (const std::string key = first_unknown_key(v, {"position", "confidence"}); !key.empty())
-    throw bad_input(path, what + ": unknown key \"" + key + "\" (a landmark has \"position\" and \"confidence\")");
   Landmark l;
   for (int k = 0; k < 3; ++k) {
     const auto& c = v["position"][std::size_t(k)];

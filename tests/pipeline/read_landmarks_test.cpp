@@ -172,3 +172,19 @@ TEST(read_landmarks, a_file_in_cm_or_m_and_a_midline_point_to_the_side_are_named
   side["landmarks"]["menton"]["position"][0] = -9.5;  // a real face's asymmetry
   EXPECT_EQ(message_for(side), "no error");
 }
+
+// A capitalised key was reported as a missing position, and NaN (which Python's json.dump writes)
+// with the parser's message alone (sweep J).
+TEST(read_landmarks, a_capitalised_key_and_nan_are_named) {
+  nlohmann::json j = nine_landmarks();
+  j["landmarks"]["sellion"]["Position"] = j["landmarks"]["sellion"]["position"];
+  j["landmarks"]["sellion"].erase("position");
+  EXPECT_EQ(message_for(j), "landmark sellion: unknown key \"Position\" (a landmark has \"position\" and \"confidence\")");
+  const std::string path = (scratch_dir() / "nan.json").string();
+  std::string text = nine_landmarks().dump();
+  text.replace(text.find("-70.0"), 5, "NaN");
+  pipeline::write_text_atomic(path, text);
+  const std::string nan = bad_input_message([&] { pipeline::read_landmarks(path, {}); }, path);
+  EXPECT_EQ(nan.rfind("not valid JSON: ", 0), 0u) << nan;
+  EXPECT_NE(nan.find("(NaN and Infinity are not JSON numbers: write finite numbers)"), std::string::npos) << nan;
+}
