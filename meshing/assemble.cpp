@@ -57,6 +57,9 @@ class Gap {
     known_.assign(skin_points_.size(), {-1e300, Eigen::Vector3d::Zero()});
   }
 
+  /// The head's skin, as an AABB tree (for other distances to it, rim_on_face).
+  const internal::TriangleTree& skin() const { return head_tree_; }
+
   /// The gap [mm] at shift s.
   double at(const Eigen::Vector3d& s) const {
     double g = 1e300;
@@ -182,8 +185,10 @@ std::vector<int> rim_nodes(const FeModel& resp) {
 
 double respirator_gap(const FeModel& head, const FeModel& resp) { return Gap(head, resp).at(Eigen::Vector3d::Zero()); }
 
-RimOnFace rim_to_skin(const FeModel& head, const FeModel& resp, const Eigen::Vector3d& shift) {
-  const internal::TriangleTree skin(head.nodes, head_surface(head));
+namespace {
+
+// rim_to_skin against a skin tree built already (place_respirator's Gap holds one).
+RimOnFace rim_on_face(const internal::TriangleTree& skin, const FeModel& resp, const Eigen::Vector3d& shift) {
   std::vector<double> d;
   for (int i : rim_nodes(resp)) d.push_back(skin.distance(resp.nodes[std::size_t(i)] + shift));
   RimOnFace r;
@@ -192,6 +197,12 @@ RimOnFace rim_to_skin(const FeModel& head, const FeModel& resp, const Eigen::Vec
   r.median_mm = d[d.size() / 2];
   r.max_mm = d.back();
   return r;
+}
+
+}  // namespace
+
+RimOnFace rim_to_skin(const FeModel& head, const FeModel& resp, const Eigen::Vector3d& shift) {
+  return rim_on_face(internal::TriangleTree(head.nodes, head_surface(head)), resp, shift);
 }
 
 void require_rim_on_face(const RimOnFace& rim, double max_median_mm) {
@@ -233,7 +244,7 @@ Eigen::Vector3d place_respirator(const FeModel& head, const std::map<std::string
   }
   s.z() = far;  // the side that keeps at least the gap
   if (gap_out) *gap_out = gap.at(s);
-  const RimOnFace rim_fit = rim_to_skin(head, resp, s);
+  const RimOnFace rim_fit = rim_on_face(gap.skin(), resp, s);
   if (rim_out) *rim_out = rim_fit;
   require_rim_on_face(rim_fit, opt.max_rim_off_mm);
   return s;

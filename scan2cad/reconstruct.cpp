@@ -546,6 +546,16 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   if (zero_normals > 0)
     pipeline::log("reconstruct", std::to_string(zero_normals) + " of " + std::to_string(cloud.points.size()) +
                                      " points have no normal: all normals are estimated from the points instead");
+  // A respirator's wall is scanned from both sides 1-2 mm apart: its points go through the
+  // thin-shell separation whatever normals the scan brings. With its own normals kept, advancing
+  // front meshed both sides into one surface; repair left it with 57 handles, and fit crashed on
+  // it (sweep K, the generator's clean cup as points with outward normals).
+  const bool thin_shell_candidate = kind == ScanKind::respirator;
+  if (thin_shell_candidate && has_normals) {
+    pipeline::log("reconstruct", "the scan's normals are not used for a respirator: its two-sided wall is oriented "
+                                 "from the points (thin-shell separation)");
+    has_normals = false;
+  }
   std::vector<PN> pn(cloud.points.size());
   for (std::size_t i = 0; i < pn.size(); ++i) pn[i] = {cloud.points[i], has_normals ? cloud.normals[i] : Vector(0, 0, 0)};
   const unsigned k = unsigned(opt.neighbors);
@@ -565,17 +575,6 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   }
   pipeline::Progress progress("reconstruct", 0);
   StepClock clock(progress, st);
-  // A respirator's wall is scanned from both sides 1-2 mm apart: its points go through the
-  // thin-shell separation whatever normals the scan brings. With its own normals kept, advancing
-  // front meshed both sides into one surface; repair left it with 57 handles, and fit crashed on
-  // it (sweep K, the generator's clean cup as points with outward normals).
-  const bool thin_shell_candidate = kind == ScanKind::respirator;
-  if (thin_shell_candidate && has_normals) {
-    pipeline::log("reconstruct", "the scan's normals are not used for a respirator: its two-sided wall is oriented "
-                                 "from the points (thin-shell separation)");
-    has_normals = false;
-    for (auto& p : pn) p.second = Vector(0, 0, 0);
-  }
 
   // 1. Thin dense scans (bounds time and memory; the output is remeshed anyway). A scan of more
   //    than opt.density_reference_points points is first cut to a random subset of that many,

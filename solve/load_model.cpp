@@ -63,7 +63,6 @@ std::vector<std::array<int, 3>> boundary_of(const std::vector<const Part*>& part
   return tris;
 }
 
-
 bool gmsh_type(int t, ElementType* out) {
   switch (t) {
     case 2: *out = ElementType::tri3; return true;
