@@ -2,8 +2,8 @@
 // only write their outputs and log their name, so the dependency graph is tested in seconds.
 // What is checked: the 30 cases share the chains of their heads and respirators; a swapped-in
 // scan runs in the case's own folder and re-runs even when the scan file is older; a rebuilt
-// stage program re-runs exactly its stage and those after it; a failed stage leaves no output;
-// nothing runs twice.
+// stage program re-runs exactly its stage and those after it; a failed stage leaves no output,
+// nor any made from its old output; nothing runs twice.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -143,7 +143,21 @@ TEST_F(CasesMake, a_rebuilt_stage_reruns_itself_and_what_follows_and_a_failure_l
   EXPECT_FALSE(fs::exists(failed / "layers.msh"));
   EXPECT_TRUE(fs::exists(failed / "surface.msh"));
   EXPECT_EQ(count(ran, "straps", ""), 0);
+  // nor the case's model made by the older layers (it was left for solve to take)
+  for (const char* stale : {"straps.msh", "model.msh", "stage1.json", "stage2.json"})
+    EXPECT_FALSE(fs::exists(build_ / "cases/small_onesize" / stale)) << stale << "\n" << log_text(ran);
   // Fixed program: the next run completes the case.
+  ASSERT_EQ(make("case=small_onesize", &ran), 0) << log_text(ran);
+  EXPECT_TRUE(fs::exists(build_ / "cases/small_onesize/model.msh"));
+
+  // The same from the first stage: a rebuilt generator that fails leaves nothing made from its old scan.
+  ASSERT_EQ(std::system(("touch " + (build_ / "bin/generate_scan").string()).c_str()), 0);
+  EXPECT_NE(make("case=small_onesize", &ran, "FAIL_STAGE=generate_scan"), 0);
+  const bool head_scan_failed = !fs::exists(build_ / "scans/head-small.ply");
+  const fs::path chain = head_scan_failed ? build_ / "heads/small" : build_ / "respirators/onesize";
+  for (const char* stale : {"reconstructed.ply", "aligned.ply", "layers.msh"})
+    EXPECT_FALSE(fs::exists(chain / stale)) << stale << "\n" << log_text(ran);
+  EXPECT_FALSE(fs::exists(build_ / "cases/small_onesize/model.msh"));
   ASSERT_EQ(make("case=small_onesize", &ran), 0) << log_text(ran);
   EXPECT_TRUE(fs::exists(build_ / "cases/small_onesize/model.msh"));
 }
