@@ -138,7 +138,7 @@ NoiseDirection parse_noise_direction(const std::string& text) {
 
 void write_holes_json(const std::string& path, const std::vector<Hole>& holes) {
   nlohmann::json j;
-  j["frame"] = "mm";
+  j["frame"] = "the scan's own coordinates (those of --out); mm";
   j["holes"] = nlohmann::json::array();
   for (const Hole& h : holes)
     j["holes"].push_back({{"centre", {h.centre.x(), h.centre.y(), h.centre.z()}},
