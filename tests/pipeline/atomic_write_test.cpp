@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -6,6 +7,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "pipeline/atomic_write.h"
 #include "pipeline/error.h"
@@ -93,6 +95,13 @@ TEST(write_all_or_none, a_failed_write_removes_the_ones_before_it) {
   pipeline::write_all_or_none({{a, [&] { pipeline::write_text_atomic(a, "a"); }}, {"", [] {}},
                                {b, [&] { pipeline::write_text_atomic(b, "b"); }}});
   EXPECT_EQ(pipeline::read_text(a) + pipeline::read_text(b), "ab");
+  // a writer failing with another exception (a library's, std::bad_alloc) removes them too, and
+  // the exception goes on unchanged (only pipeline errors were tested: sweep L)
+  EXPECT_THROW(pipeline::write_all_or_none({{a, [&] { pipeline::write_text_atomic(a, "a"); }},
+                                            {c, [] { throw std::runtime_error("gmsh: cannot write"); }}}),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(a));
+  EXPECT_TRUE(fs::exists(b)) << "an output before the call is not the call's to remove";
 }
 
 // Outputs that cannot be written are found before the work, not after it: a folder that takes no

@@ -169,6 +169,9 @@ TEST(read_landmarks, a_file_in_cm_or_m_and_a_midline_point_to_the_side_are_named
   side["landmarks"]["menton"]["position"][0] = 25.0;
   EXPECT_EQ(message_for(side), "landmark menton: x = 25, expected within 10 mm of the symmetry plane x = 0: is the head "
                                "aligned, or the point picked off the midline?");
+  side["landmarks"]["menton"]["position"][0] = -25.0;  // to the subject's right: the same (only +x was tried: sweep L)
+  EXPECT_EQ(message_for(side), "landmark menton: x = -25, expected within 10 mm of the symmetry plane x = 0: is the head "
+                               "aligned, or the point picked off the midline?");
   side["landmarks"]["menton"]["position"][0] = -9.5;  // a real face's asymmetry
   EXPECT_EQ(message_for(side), "no error");
 }

@@ -1,6 +1,7 @@
 // repair (and its spike filter) on spheres with known defects.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "pipeline/error.h"
@@ -51,6 +52,19 @@ TEST(repair, cleans_a_soup_with_debris_degenerate_faces_and_a_hole) {
   const auto j = rep.to_json();
   EXPECT_EQ(j["closed"], true);
   EXPECT_EQ(j["holes"].size(), 1u);
+}
+
+// A closed scan whose faces all point inward (an exporter's other winding) comes out facing
+// outward: its volume is positive. The only check was on a soup already outward (sweep L).
+TEST(repair, an_inward_facing_surface_is_turned_outward) {
+  auto s = test_meshes::sphere_soup(50, 40);
+  for (auto& p : s.polygons) std::reverse(p.begin(), p.end());
+  scan2cad::RepairReport rep;
+  scan2cad::RepairOptions opt;
+  opt.target_edge_mm = 3.0;
+  const auto m = scan2cad::repair(s, scan2cad::ScanKind::head, opt, &rep);
+  EXPECT_TRUE(rep.closed);
+  EXPECT_NEAR(rep.volume_mm3, 4.0 / 3.0 * M_PI * 50 * 50 * 50, 0.02 * 4.0 / 3.0 * M_PI * 50 * 50 * 50);
 }
 
 TEST(repair, respirator_cup_keeps_its_rim) {
@@ -168,6 +182,9 @@ TEST(surface_distance, a_bump_is_found_and_an_excluded_ball_leaves_it_out) {
   bumped.point(top) = tip;
   const auto all = scan2cad::surface_distance(bumped, sphere, 20000);
   EXPECT_NEAR(all.hausdorff_mm, 5.0, 0.05);  // the tip itself is a sample (every vertex is)
+  // symmetric: the bump on the second surface is found as well (a one-sided distance, which
+  // weakens the acceptance tests' Hausdorff gate, passed while the bump was only ever first)
+  EXPECT_NEAR(scan2cad::surface_distance(sphere, bumped, 20000).hausdorff_mm, 5.0, 0.05);
   const auto outside = scan2cad::surface_distance(bumped, sphere, 20000, {{tip, 12.0}});
   EXPECT_LT(outside.hausdorff_mm, 1e-6);
   // both at once (one sampling, one set of queries) give the same figures as the two calls, up

@@ -204,6 +204,10 @@ TEST(membrane, uniaxial_tension_matches_svk) {
     const double expected = 2 * 0.5 * (1 + eps) * 10.2 * (eps + 0.5 * eps * eps);
     EXPECT_NEAR(s.reaction("xmax")[0], expected, 1e-4 * expected) << solve::element_name(t);
     EXPECT_NEAR(s.reaction("xmin")[0], -expected, 1e-4 * expected) << solve::element_name(t);
+    // At rest, the force the plate transmits through its pulled end (forces.csv's section columns,
+    // the strap ends' in a case) balances the support's: -reaction. Its sign passed untested (sweep L).
+    EXPECT_NEAR(s.section_force("xmax")[0], -expected, 1e-4 * expected) << solve::element_name(t);
+    EXPECT_NEAR(s.section_force("xmin")[0], expected, 1e-4 * expected) << solve::element_name(t);
   }
 }
 

@@ -9,6 +9,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "pipeline/atomic_write.h"
@@ -86,6 +91,29 @@ solve::Model block_on_rigid_base(const BlockOnBase& spec) {
   m.contacts.push_back({"top_on_base", "top_zmin", "zmax", 0.1, 0.1, spec.friction, false});
   m.control.damping_alpha = 2.0;
   return m;
+}
+
+// The values of the last $NodeData block named `name` in a results.msh (one component per node),
+// by node tag; empty when there is none or it does not parse.
+std::map<long, double> last_node_data(const std::string& path, const std::string& name) {
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string head = "$NodeData\n1\n\"" + name + "\"\n";
+  const std::size_t at = text.rfind(head);
+  if (at == std::string::npos) return {};
+  std::istringstream block(text.substr(at + head.size()));
+  int n_real = 0, n_int = 0, step = 0, ncomp = 0, n = 0;
+  double time = 0;
+  block >> n_real >> time >> n_int >> step >> ncomp >> n;
+  if (!block || n_real != 1 || n_int != 3 || ncomp != 1) return {};
+  std::map<long, double> values;
+  for (int k = 0; k < n; ++k) {
+    long tag = 0;
+    double v = 0;
+    if (!(block >> tag >> v)) return {};
+    values[tag] = v;
+  }
+  return values;
 }
 
 }  // namespace
@@ -427,6 +455,22 @@ TEST(solver, contact_pair_carries_load_to_rigid_base) {
   std::printf("contact run: kinetic %.3g internal %.3g contact %.3g damping %.3g external %.3g balance %.3g mJ\n",
               e.kinetic, e.internal, e.contact, e.damping, e.external, e.balance);
   EXPECT_LT(std::fabs(e.balance), 0.01 * e.external);
+  // What results.msh holds as contact_pressure at the end is that pressure: node by node the
+  // Solver's above (the same steps to the same time), so its median is F/A too. No test read the
+  // values in results.msh: the shear field written under the pressure's name passed (sweep L).
+  const std::map<long, double> written = last_node_data(o.out_dir + "/results.msh", "contact_pressure");
+  ASSERT_EQ(written.size(), m.n_nodes());
+  const std::vector<double> pressure = s.contact_pressure();
+  std::vector<double> loaded;
+  for (std::size_t i = 0; i < m.n_nodes(); ++i) {
+    ASSERT_EQ(written.count(m.node_tag(i)), 1u) << "node " << m.node_tag(i);
+    const double v = written.at(m.node_tag(i));
+    EXPECT_NEAR(v, pressure[i], 1e-6 * f_over_a) << "node " << m.node_tag(i);
+    if (v > 0) loaded.push_back(v);
+  }
+  ASSERT_GE(loaded.size(), 9u);
+  std::sort(loaded.begin(), loaded.end());
+  EXPECT_NEAR(loaded[loaded.size() / 2], f_over_a, 0.05 * f_over_a);
 }
 
 // No volumetric locking: the static tip deflection of a cantilever (20 × 1 × 2 elements, end
@@ -676,4 +720,28 @@ TEST(save_state, restarted_run_with_friction_continues_identically) {
   double diff = 0;
   for (std::size_t k = 0; k < a.x().size(); ++k) diff = std::max(diff, std::fabs(a.x()[k] - d.x()[k]));
   EXPECT_GT(diff, 0.0);
+}
+
+// Several pairs press on one surface (stage II has three on head_skin): the pressure the Solver
+// reports, and results.msh writes, is their sum node by node, not the last pair's (that slip
+// passed every one-pair test: sweep L). The block on its base twice over: once through its
+// bottom face, once through the same nodes as a node group; both pairs carry load.
+TEST(solver, pressure_and_shear_of_several_pairs_add_up) {
+  solve::Model m = block_on_base_with_friction();
+  m.node_groups["top_bottom_nodes"] = m.group("top_zmin");
+  m.contacts.push_back({"nodes_on_base", "top_bottom_nodes", "zmax", 0.1, 0.1, 0.3, false});
+  solve::Solver s(m);
+  s.run_until(1.0);
+  ASSERT_TRUE(s.health().empty()) << s.health();
+  ASSERT_EQ(s.contacts().size(), 2u);
+  const std::vector<double> p = s.contact_pressure(), q = s.contact_shear();
+  for (std::size_t c = 0; c < 2; ++c)
+    EXPECT_GE(std::count_if(s.contacts()[c].pressure().begin(), s.contacts()[c].pressure().end(),
+                            [](double v) { return v > 0; }),
+              9)
+        << "pair " << c << " carries no load: the test would not see a lost pair";
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    EXPECT_DOUBLE_EQ(p[i], s.contacts()[0].pressure()[i] + s.contacts()[1].pressure()[i]) << i;
+    EXPECT_DOUBLE_EQ(q[i], s.contacts()[0].shear()[i] + s.contacts()[1].shear()[i]) << i;
+  }
 }

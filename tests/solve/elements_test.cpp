@@ -151,3 +151,21 @@ TEST(objectivity, rigid_rotation_gives_zero_stress) {
     for (double f : a.internal_force()) EXPECT_LT(std::fabs(f), 1e-12);
   }
 }
+
+// The von Mises stress against its closed form (the tests above compare it only with itself): a
+// uniaxial stretch F = diag(λ1, 1, 1) of the neo-Hookean solid gives Cauchy σ = (μ(b − I) + λ ln J I)/J
+// with b = diag(λ1², 1, 1), J = λ1, so σ11 − σ22 = μ(λ1² − 1)/λ1, σ22 = σ33, and von Mises is
+// |σ11 − σ22|. Rubber: μ = E/2(1+ν) = 1/2.6 MPa; λ1 = 1.1 gives 0.0734266 MPa. Every node of
+// every element type, to 1e-9 relative (round-off, as in the patch tests). A √2 slip in the
+// invariant (√(3 s:s) for √(1.5 s:s)) survived every test before this one (sweep L).
+TEST(von_mises, uniaxial_stretch_matches_the_closed_form) {
+  const double stretch = 1.1, mu = 1.0 / (2 * 1.3);
+  const double expected = mu * (stretch * stretch - 1) / stretch;
+  const double M[3][3] = {{stretch, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (ElementType t : {ElementType::wedge6, ElementType::hex8, ElementType::tet4}) {
+    solve::Solver s(irregular_block(t));
+    const auto vm = set_positions(s, M);
+    ASSERT_FALSE(vm.empty());
+    for (double v : vm) EXPECT_NEAR(v, expected, 1e-9 * expected) << int(t);
+  }
+}
