@@ -14,6 +14,9 @@ class Progress {
   Progress(std::string stage, std::size_t total, double min_interval_s = 2.0);
   /// Reports that `done` units are finished, while doing `step`.
   void update(std::size_t done, const std::string& step = "");
+  /// Re-estimates the total: work whose units change size as it goes (solve's steps, when the
+  /// time step shrinks) printed past 100 % ("16168/15705 (103%) ETA 0.0 s", sweep M).
+  void set_total(std::size_t total) { total_ = total; }
   /// Starts a new named step without a count (printed at once).
   void step(const std::string& step);
   /// Prints the final line with the elapsed time.

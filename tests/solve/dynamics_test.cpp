@@ -745,3 +745,30 @@ TEST(solver, pressure_and_shear_of_several_pairs_add_up) {
     EXPECT_DOUBLE_EQ(q[i], s.contacts()[0].shear()[i] + s.contacts()[1].shear()[i]) << i;
   }
 }
+
+// Progress counts the steps still needed at the present step size. A block crushed to 60 % of its
+// height shrinks its stable step as it goes, so the run takes more steps than planned at the
+// start; its progress never passes 100 % (stage I printed "16168/15705 (103%) ... ETA 0.0 s":
+// sweep M). Without progress lines (o.progress false) only the lines at 100 % are printed.
+TEST(run, progress_follows_a_shrinking_step_and_stays_within_100_percent) {
+  solve::Model m = soft_block_fixed_below(2, 2, 4);
+  m.bcs.push_back({"zmax", 2, solve::BcKind::velocity, solve::Curve{{0, 0.1, 4}, {0, -0.4, -0.4}}});
+  m.control.damping_alpha = 1.0;
+  m.control.dt_update_interval = 5;
+  m.control.end_time = 4.0;
+  solve::RunOptions o;
+  o.out_dir = temp_dir("shrinking_step");
+  o.progress = false;
+  ::testing::internal::CaptureStderr();
+  const solve::RunSummary r = solve::run(m, o);
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  long planned = -1;
+  const auto plan = log.find(" steps; mass");
+  ASSERT_NE(plan, std::string::npos) << log;
+  planned = std::stol(log.substr(log.rfind(", ", plan) + 2));
+  EXPECT_GT(r.steps, planned) << "the step did not shrink: this test would not see the overshoot\n" << log;
+  std::size_t percents = 0;
+  for (std::size_t at = log.find("%)"); at != std::string::npos; at = log.find("%)", at + 1), ++percents)
+    EXPECT_LE(std::stod(log.substr(log.rfind('(', at) + 1)), 100.0) << log;
+  EXPECT_GE(percents, 1u) << log;
+}
