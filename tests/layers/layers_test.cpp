@@ -213,6 +213,27 @@ TEST(build_layers, respirator_dome_has_seal_and_outer_layers) {
   for (const auto& v : rep.volumes) EXPECT_NEAR(v.volume / v.mid_area_volume, 1.0, 0.05) << v.group;
 }
 
+// --elements-per-tissue reaches the mesh: three element layers through the seal, one through the
+// outer layer, give three times the seal's wedges and the outer layer's count unchanged (the
+// option was tested only as parsed text; ignoring it passed: sweep L).
+TEST(build_layers, elements_per_tissue_divides_that_tissue_only) {
+  const auto stacks = layering::read_stacks(kMaterials, "respirator");
+  layering::LayerOptions one;
+  one.kind = "respirator";
+  layering::LayerOptions three = one;
+  three.elements_per_tissue = layering::parse_elements_per_tissue("seal_layer=3", stacks);
+  const layering::FeModel a = layering::build_layers(fixtures::dome_respirator(), stacks, one, nullptr);
+  const layering::FeModel b = layering::build_layers(fixtures::dome_respirator(), stacks, three, nullptr);
+  for (const char* g : {"respirator_seal", "respirator_outer"}) {
+    ASSERT_NE(a.find(g), nullptr) << g;
+    ASSERT_NE(b.find(g), nullptr) << g;
+  }
+  const auto wedges = [](const layering::FeModel& m, const char* g) { return m.find(g)->size(); };
+  ASSERT_GT(wedges(a, "respirator_seal"), 0u);
+  EXPECT_EQ(wedges(b, "respirator_seal"), 3 * wedges(a, "respirator_seal"));
+  EXPECT_EQ(wedges(b, "respirator_outer"), wedges(a, "respirator_outer"));
+}
+
 TEST(write_fe_model, round_trip_and_opens_in_meshio) {
   layering::LayerOptions opt;
   opt.kind = "respirator";

@@ -76,6 +76,32 @@ TEST(segment_head, cheek_areas_symmetric_on_a_symmetric_head) {
   EXPECT_LT(std::abs(l - r) / (0.5 * (l + r)), 0.05);
 }
 
+// Each part lies where its name says: the subject's left cheek at +x (the frame's), the right at
+// -x, the forehead above the chin. Areas alone cannot tell (cheek labels swapped passed every
+// segment test: sweep L). Measured: the cheeks' centroids at x = +-50 mm or so.
+TEST(segment_head, parts_lie_where_their_names_say) {
+  pipeline::SurfaceMesh mesh = pipeline::read_surface_mesh(niosh_medium_ply());
+  layering::segment_head(mesh, layering::internal::read_segment_landmarks(fixture));
+  const auto label = mesh.property_map<pipeline::FaceIndex, int>(pipeline::part_property).first;
+  std::array<pipeline::Vector, 5> sum;
+  std::array<double, 5> area{};
+  sum.fill(pipeline::Vector(0, 0, 0));
+  for (auto f : mesh.faces()) {
+    const auto h = mesh.halfedge(f);
+    const pipeline::Point &a = mesh.point(mesh.source(h)), &b = mesh.point(mesh.target(h)),
+                          &c = mesh.point(mesh.target(mesh.next(h)));
+    const double w = std::sqrt(CGAL::squared_area(a, b, c));
+    sum[std::size_t(label[f])] += w * (CGAL::centroid(a, b, c) - CGAL::ORIGIN);
+    area[std::size_t(label[f])] += w;
+  }
+  const auto centre = [&](int l) { return sum[std::size_t(l)] / area[std::size_t(l)]; };
+  EXPECT_GT(centre(layering::left_cheek).x(), 20.0);
+  EXPECT_LT(centre(layering::right_cheek).x(), -20.0);
+  EXPECT_GT(centre(layering::forehead).y(), centre(layering::chin).y() + 50.0);
+  EXPECT_NEAR(centre(layering::forehead).x(), 0.0, 10.0);
+  EXPECT_NEAR(centre(layering::chin).x(), 0.0, 10.0);
+}
+
 // The reader's checks reach segment (all are pipeline::read_landmarks', tested in tests/pipeline),
 // on the real fixture with one value changed: a head not y-up, swapped landmarks, a mirrored side.
 TEST(read_segment_landmarks, refuses_a_head_upside_down_or_a_pronasale_off_the_profile) {
