@@ -1,6 +1,7 @@
 // Unit tests of the penalty contact: geometry kernels, search, forces, pressure.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -273,6 +274,22 @@ TEST(contact_pair, penetrating_node_gets_k_times_gap_along_the_normal) {
   EXPECT_NEAR(f[2], k * gap, 1e-9 * k * gap);
   const auto free = force_on_slave(m, {1.3, 2.6, +gap}, mass, dt);
   EXPECT_EQ(free[2], 0.0);
+}
+
+// The search grid follows the master: moved 5 edge lengths onto a slave it was far from when the
+// grid was built, the master finds it and pushes it out with k·gap. A grid never re-built passed
+// every fast test (only the slow Hertz test saw it: sweep L).
+TEST(contact_pair, the_search_follows_a_master_that_moved) {
+  const FlatMaster m(4, 1.0);
+  const double mass = 2e-3, dt = 5e-3, gap = 0.01, k = 0.1 * mass / (dt * dt);
+  OneSlave c(m, {1.3, 2.6, 5.0}, mass, "moving");
+  ContactPair pair(c.spec, c.mass.size());
+  c.add_forces(pair, dt);
+  EXPECT_EQ(c.f[3 * c.s + 2], 0.0);
+  for (int i = 0; i < m.nodes(); ++i) c.x[3 * std::size_t(i) + 2] += 5.0 + gap;
+  std::fill(c.f.begin(), c.f.end(), 0.0);
+  c.add_forces(pair, dt);
+  EXPECT_NEAR(c.f[3 * c.s + 2], k * gap, 1e-9 * k * gap);
 }
 
 TEST(contact_pair, edge_and_vertex_projections_get_contact) {
