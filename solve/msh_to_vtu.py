@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Converts solve's results.msh into an XDMF time series (one step per output time; data in a .h5
-beside it) and a .vtu of the last output time, for ParaView. Run with /usr/bin/python3 (Debian meshio, numpy).
+beside it) and a .vtu of the last output time, for ParaView. Every cell carries the number of its
+physical group as cell data "part"; <out>_parts.csv names them (face parts, tissues, straps). Run with /usr/bin/python3 (Debian meshio, numpy).
 
     /usr/bin/python3 solve/msh_to_vtu.py results.msh results.xdmf
 
@@ -35,6 +36,25 @@ def node_data_blocks(path):
             yield name, reals[0] if reals else 0.0, data[:, 0].astype(np.int64), data[:, 1:1 + ncomp]
 
 
+CELL_DIM = {"triangle": 2, "quad": 2, "tetra": 3, "hexahedron": 3, "wedge": 3}
+
+
+def part_labels(mesh, keep):
+    """The physical group of every kept cell as a number 0..n-1 (cell data "part": ParaView's
+    Threshold picks a face part with it; the group names alone do not reach a .vtu), and the
+    names in that order. Numbered by (dimension, gmsh tag), as a tag may repeat across dimensions."""
+    by_key = {(int(dim), int(tag)): name for name, (tag, dim) in mesh.field_data.items()}
+    keys = sorted(by_key)
+    number = {k: i for i, k in enumerate(keys)}
+    physical = mesh.cell_data.get("gmsh:physical", [])
+    labels = []
+    for i in keep:
+        dim = CELL_DIM[mesh.cells[i].type]
+        tags = physical[i] if i < len(physical) else np.full(len(mesh.cells[i].data), -1)
+        labels.append(np.array([number.get((dim, int(t)), -1) for t in tags], dtype=np.int32))
+    return [by_key[k] for k in keys], labels
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: msh_to_vtu.py results.msh out.xdmf")
@@ -66,9 +86,11 @@ def main():
         arr = np.zeros((len(mesh.points), values.shape[1]))
         arr[[row[t] for t in ntags]] = values
         frames.setdefault(time, {})[name] = arr[:, 0] if values.shape[1] == 1 else arr
-    cells = [c for c in mesh.cells if c.type in ("triangle", "quad", "tetra", "hexahedron", "wedge")]
+    keep = [i for i, c in enumerate(mesh.cells) if c.type in CELL_DIM]
+    cells = [mesh.cells[i] for i in keep]
     if not frames:
         sys.exit(f"msh_to_vtu: {src}: no $NodeData blocks")
+    part_names, part_of_cells = part_labels(mesh, keep)
     # meshio's TimeSeriesWriter puts its .h5 in the working directory, named after the xdmf stem:
     # write in the destination directory under temporary names, then rename (no half files).
     dst = os.path.abspath(dst)
@@ -84,7 +106,7 @@ def main():
         with meshio.xdmf.TimeSeriesWriter(stem + ".tmp.xdmf") as w:
             w.write_points_cells(mesh.points, cells)
             for t in sorted(frames):
-                w.write_data(t, point_data=frames[t])
+                w.write_data(t, point_data=frames[t], cell_data={"part": part_of_cells})
         os.replace(stem + ".tmp.h5", stem + ".h5")
         with open(stem + ".tmp.xdmf") as f:
             text = f.read().replace(stem + ".tmp.h5", stem + ".h5")
@@ -96,9 +118,14 @@ def main():
     last = frames[max(frames)]
     vtu = os.path.splitext(dst)[0] + ".vtu"
     vtu_tmp = vtu + ".tmp.vtu"
-    meshio.write(vtu_tmp, meshio.Mesh(mesh.points, cells, point_data=last))
+    meshio.write(vtu_tmp, meshio.Mesh(mesh.points, cells, point_data=last, cell_data={"part": part_of_cells}))
     os.replace(vtu_tmp, vtu)
-    print(f"msh_to_vtu: {len(frames)} time steps -> {dst}, last -> {vtu}", file=sys.stderr)
+    legend = os.path.splitext(dst)[0] + "_parts.csv"
+    with open(legend + ".tmp", "w") as f:
+        f.write("part,name\n" + "".join(f"{i},{n}\n" for i, n in enumerate(part_names)))
+    os.replace(legend + ".tmp", legend)
+    print(f"msh_to_vtu: {len(frames)} time steps -> {dst}, last -> {vtu}, cell data \"part\" named in {legend}",
+          file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -266,6 +266,18 @@ TEST(solve_cli, good_run_writes_results_state_and_histories) {
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.xdmf"));
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.h5"));
   EXPECT_TRUE(fs::exists(c.dir + "/out/results.vtu"));
+  // every cell carries its physical group's number, named in results_parts.csv (the group names
+  // did not reach the .vtu: no face part could be picked in ParaView, sweep M)
+  const std::string parts = c.read("out/results_parts.csv");
+  EXPECT_EQ(parts.rfind("part,name\n", 0), 0u) << parts;
+  const auto block_at = parts.find(",block\n");
+  ASSERT_NE(block_at, std::string::npos) << parts;
+  const std::string block_number = parts.substr(parts.rfind('\n', block_at) + 1, block_at - parts.rfind('\n', block_at) - 1);
+  EXPECT_EQ(c.sh(std::string(SYSTEM_PYTHON) + " -c \"import meshio, numpy; m = meshio.read('" + c.dir +
+                 "/out/results.vtu'); w = [d for b, d in zip(m.cells, m.cell_data['part']) if b.type == 'wedge']; "
+                 "assert w and all((d == " + block_number + ").all() for d in w)\""),
+            0)
+      << c.read("err.txt");
   // a file that is not gmsh (meshio 5.0 prints two lines and calls sys.exit): one line naming it
   c.write("not.msh", "this is not a mesh\n");
   EXPECT_NE(c.sh(std::string(SYSTEM_PYTHON) + " " + SOURCE_DIR + "/solve/msh_to_vtu.py " + c.dir + "/not.msh " +
