@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Converts solve's results.msh into an XDMF time series (one step per output time; data in a .h5
 beside it) and a .vtu of the last output time, for ParaView. Every cell carries the number of its
-physical group as cell data "part"; <out>_parts.csv names them (face parts, tissues, straps). Run with /usr/bin/python3 (Debian meshio, numpy).
+physical group as cell data "part"; <out>_parts.csv names them (face parts, tissues, straps).
+Run with /usr/bin/python3 (Debian meshio, numpy).
 
     /usr/bin/python3 solve/msh_to_vtu.py results.msh results.xdmf
 
