@@ -1,6 +1,8 @@
 // Landmarks file I/O and measures; see landmarks.h. Detection is in internal/landmarks_detect.cpp.
 #include "scan2cad/landmarks.h"
 
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "pipeline/error.h"
@@ -48,6 +50,27 @@ std::string landmarks_json(const Landmarks& l) {
   j["measures_mm"]["bitragion_breadth"] = dist(l, "tragion_left", "tragion_right");
   j["measures_mm"]["bigonial_breadth"] = dist(l, "gonion_left", "gonion_right");
   return j.dump(2) + "\n";
+}
+
+std::vector<std::string> user_landmark_notes(const Landmarks& user, const pipeline::SurfaceMesh& head,
+                                             const std::map<std::string, double>& off_surface_mm) {
+  constexpr double note_off_surface_mm = 2, note_from_detected_mm = 15;
+  const auto one_decimal = [](double mm) { return pipeline::format_number(std::round(mm * 10) / 10); };
+  std::vector<std::string> notes;
+  for (const auto& [name, d] : off_surface_mm)
+    if (d > note_off_surface_mm)
+      notes.push_back("landmark " + name + " is " + one_decimal(d) + " mm off the head's surface; kept where it is");
+  try {
+    const Landmarks detected = detect_landmarks(head);
+    for (const auto& [name, point] : user.points)
+      if (const auto it = detected.points.find(name); it != detected.points.end())
+        if (const double d = (point.position - it->second.position).norm(); d > note_from_detected_mm)
+          notes.push_back("landmark " + name + " is " + one_decimal(d) + " mm from where detection puts it on this head (confidence " +
+                          pipeline::format_number(std::round(it->second.confidence * 100) / 100) + "): another head's landmarks?");
+  } catch (const pipeline::Error& e) {
+    if (e.kind != pipeline::ErrorKind::algorithm) throw;  // detection found no face: nothing to compare
+  }
+  return notes;
 }
 
 Landmarks read_landmarks(const std::string& path) {

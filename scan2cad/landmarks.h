@@ -60,6 +60,22 @@ void require_adult_face(const Landmarks& l, const std::string& path);
 /// The landmarks as JSON (frame, source, landmarks, measures_mm).
 std::string landmarks_json(const Landmarks& l);
 
+/// What is odd about a user's landmarks on this head, one sentence each, for the landmarks
+/// program to log as notes (the points are kept where the user put them: a hand-picked point may
+/// be meant where detection does not look). A point in the air, or another head's (the generated
+/// large head's landmarks lie within 6 mm of the medium head, its tragia 35-38 mm from the medium
+/// head's own), went through every stage without a word (sweep J).
+/// @param[in] user          the user's landmarks, in the head's frame [mm]
+/// @param[in] head          the aligned head; detection runs on it (about 3 s on a medium head)
+/// @param[in] off_surface_mm  each landmark's distance to `head` [mm], by name
+///                          (pipeline::require_landmarks_on_surface gives it)
+/// @return "landmark sellion is 6.4 mm off the head's surface; kept where it is" for each point
+///         more than 2 mm off, then "landmark tragion_left is 30 mm from where detection puts it on
+///         this head (confidence 0.71): another head's landmarks?" for each more than 15 mm from
+///         the detected one; nothing of the second kind where detection finds no face.
+std::vector<std::string> user_landmark_notes(const Landmarks& user, const pipeline::SurfaceMesh& head,
+                                             const std::map<std::string, double>& off_surface_mm);
+
 /// Reads and validates a landmarks file (a user's or ours) with pipeline::read_landmarks: every
 /// required name present, positions 3 finite numbers, confidence in [0, 1], left points at x > 0
 /// and right at x < 0. `source` is "user".

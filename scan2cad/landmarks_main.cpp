@@ -10,7 +10,6 @@
 // Sample runs:
 //   landmarks --in build/cases/medium_onesize/head/aligned.ply --out landmarks.json
 //   landmarks --in aligned.ply --user my_landmarks.json --out landmarks.json
-#include <cmath>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -56,27 +55,8 @@ int main(int argc, char** argv) {
       l = scan2cad::read_landmarks(user);
       std::map<std::string, double> off_mm;
       pipeline::require_landmarks_on_surface(l.points, head, user, 10.0, &off_mm);
-      // Points are kept where the user put them; one in the air, or another head's (the generated
-      // large head's landmarks lie within 6 mm of the medium head, its tragia 35-38 mm from the
-      // medium head's own), went through every stage without a word (sweep J). Said, not refused:
-      // a hand-picked point may be meant where detection does not look.
-      constexpr double note_off_surface_mm = 2, note_from_detected_mm = 15;
-      for (const auto& [name, d] : off_mm)
-        if (d > note_off_surface_mm)
-          pipeline::log("landmarks", "note: " + user + ": landmark " + name + " is " + pipeline::format_number(std::round(d * 10) / 10) +
-                                         " mm off the head's surface; kept where it is");
-      try {
-        const scan2cad::Landmarks detected = scan2cad::detect_landmarks(head);
-        for (const auto& [name, point] : l.points)
-          if (const auto it = detected.points.find(name); it != detected.points.end())
-            if (const double d = (point.position - it->second.position).norm(); d > note_from_detected_mm)
-              pipeline::log("landmarks", "note: " + user + ": landmark " + name + " is " + pipeline::format_number(std::round(d * 10) / 10) +
-                                             " mm from where detection puts it on this head (confidence " +
-                                             pipeline::format_number(std::round(it->second.confidence * 100) / 100) +
-                                             "): another head's landmarks?");
-      } catch (const pipeline::Error& e) {
-        if (e.kind != pipeline::ErrorKind::algorithm) throw;  // detection found no face: nothing to compare
-      }
+      for (const std::string& note : scan2cad::user_landmark_notes(l, head, off_mm))
+        pipeline::log("landmarks", "note: " + user + ": " + note);
       // a user's own points are kept, but no stage uses them: said, so a misspelt name shows
       for (const auto& [name, point] : l.points)
         if (!pipeline::is_head_landmark_name(name))
