@@ -64,6 +64,13 @@ bool plausible_size(double size_mm, double expected_mm) {
 }
 }  // namespace
 
+// A unit forced on a size it does not fit passes reconstruct and repair, and align refuses it:
+// "force the unit" had led nowhere (sweep K).
+std::string wrong_size_question(bool too_large) {
+  return std::string("an object of another kind (see --kind), ") + (too_large ? "more than the object, " : "") +
+         "or in another unit (see --unit)? align refuses an object of that size";
+}
+
 Unit detect_unit(double extent, double expected_mm, const std::string& what) {
   if (!(extent > 0) || !std::isfinite(extent))
     throw bad_input(what, "bounding box has no extent (" + format_number(extent) + ")");
@@ -86,8 +93,7 @@ Unit detect_unit(double extent, double expected_mm, const std::string& what) {
         ss << "largest extent " << (u == Unit::mm ? "" : format_number(extent) + " is ")
            << format_number(std::round(size_mm * 10) / 10) << " mm" << (u == Unit::mm ? "" : " in " + unit_name(u))
            << ", under " << smallest_real_share_of_extent << " of an object of about " << expected_mm
-           << " mm: an object of another kind (see --kind), or in another unit (see --unit)? align refuses an "
-           << "object of that size";
+           << " mm: " << wrong_size_question(false);
       throw bad_input(what, ss.str());
     }
     return u;

@@ -40,6 +40,11 @@ inline constexpr double largest_real_share_of_extent = 1.6;
 ///         kind (see --kind)?", or "... under the 150 mm of the smallest head: ...".
 void require_real_size(const std::string& path, double extent_mm, const std::string& kind, bool kind_option = true);
 
+/// The question that ends a refusal of a scan's size (unit detection, reconstruct, repair):
+/// "an object of another kind (see --kind), or in another unit (see --unit)? align refuses an
+/// object of that size"; `too_large` adds "more than the object" (a bust, a table) before the unit.
+std::string wrong_size_question(bool too_large);
+
 /// head_extent_mm for "head", respirator_extent_mm for "respirator". @throws Error(usage) otherwise.
 double expected_extent_mm(const std::string& kind);
 

@@ -625,15 +625,13 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
     if (extent_mm < opt.min_extent_mm)
       throw pipeline::bad_input("point cloud", "without its outliers it spans " + pipeline::format_number(extent_mm) +
                                                    " mm, under the " + pipeline::format_number(opt.min_extent_mm) +
-                                                   " mm of the smallest " + scan_kind_name(kind) +
-                                                   ": an object of another kind (see --kind), or in another unit "
-                                                   "(see --unit)? align refuses an object of that size");
+                                                   " mm of the smallest " + scan_kind_name(kind) + ": " +
+                                                   pipeline::wrong_size_question(false));
     if (opt.max_extent_mm > 0 && extent_mm > opt.max_extent_mm)
       throw pipeline::bad_input("point cloud", "without its outliers it spans " + pipeline::format_number(extent_mm) +
                                                    " mm, over the " + pipeline::format_number(opt.max_extent_mm) +
-                                                   " mm of the largest " + scan_kind_name(kind) +
-                                                   ": an object of another kind (see --kind), more than the "
-                                                   "object, or in another unit (see --unit)? align refuses an object of that size");
+                                                   " mm of the largest " + scan_kind_name(kind) + ": " +
+                                                   pipeline::wrong_size_question(true));
   }
   // Points on a plane or a line: CGAL 5.5's Poisson crashes when its Delaunay triangulation is
   // flat and never finishes contouring when it is nearly so (a plane with 0.001 mm of noise ran

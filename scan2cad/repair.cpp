@@ -19,6 +19,7 @@
 #include "pipeline/principal_spreads.h"
 #include "pipeline/progress.h"
 #include "pipeline/require_affordable_edge.h"
+#include "pipeline/units.h"
 #include "scan2cad/internal/cleanup.h"
 #include "scan2cad/remove_support_plane.h"
 
@@ -124,9 +125,7 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
       opt.max_extent_mm > 0 && extent_mm > opt.max_extent_mm)
     throw pipeline::bad_input("mesh", "it spans " + pipeline::format_number(extent_mm) + " mm, over the " +
                                           pipeline::format_number(opt.max_extent_mm) + " mm of the largest " +
-                                          scan_kind_name(kind) +
-                                          ": an object of another kind (see --kind), more than the object, or in "
-                                          "another unit (see --unit)? align refuses an object of that size");
+                                          scan_kind_name(kind) + ": " + pipeline::wrong_size_question(true));
 
   // 3. Spikes.
   progress.step("spikes");
