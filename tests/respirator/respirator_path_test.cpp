@@ -7,7 +7,6 @@
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <gmsh.h>
 
 #include <Eigen/Geometry>
@@ -19,8 +18,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "data/generator/head_model.h"
-#include "data/generator/respirator_model.h"
 #include "layering/layers.h"
 #include "layering/segment.h"
 #include "meshing/surface_mesh.h"
@@ -29,6 +26,7 @@
 #include "scan2cad/align.h"
 #include "scan2cad/fit.h"
 #include "../file_text.h"
+#include "../generated_cup.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
 
@@ -40,25 +38,7 @@ namespace {
 
 const fs::path dir = scratch_dir();
 
-SurfaceMesh clean_cup(const std::string& id) {
-  generator::HeadParams face;
-  const auto p = generator::read_respirator_params(std::string(SOURCE_DIR) + "/data/generator/respirators.json", id, &face);
-  const generator::Triangles t = generator::make_respirator(p, generator::HeadShape(face));
-  std::vector<std::vector<std::size_t>> polygons;
-  for (const auto& f : t.faces) polygons.push_back({f[0], f[1], f[2]});
-  SurfaceMesh mesh;
-  PMP::polygon_soup_to_polygon_mesh(t.points, polygons, mesh);
-  return mesh;
-}
-
 double area(const SurfaceMesh& m) { return PMP::area(m); }
-
-// Area-weighted mean z of the face normals (< 0: the surface looks toward the face, -z).
-double mean_normal_z(const SurfaceMesh& m) {
-  double s = 0;
-  for (auto f : m.faces()) s += PMP::compute_face_normal(f, m).z() * PMP::face_area(f, m);
-  return s / area(m);
-}
 
 // Rotation angle [deg] between two rotations.
 double angle_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {

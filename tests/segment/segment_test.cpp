@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <nlohmann/json.hpp>
 
@@ -27,6 +28,7 @@
 #include "../bad_input_message.h"
 #include "../niosh_medium_ply.h"
 #include "../file_text.h"
+#include "../generated_cup.h"
 #include "../last_line.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
@@ -127,6 +129,28 @@ TEST(read_segment_landmarks, refuses_a_head_upside_down_or_a_pronasale_off_the_p
   EXPECT_EQ(bad_input_message([&] { layering::internal::read_segment_landmarks(path); }, path)
                 .rfind("landmark tragion_left: x = -70, expected > 0", 0),
             0u);
+}
+
+// The inner face is the sheet that looks toward the face (-z), on the closed shell of a cup (its
+// two sheets are alike in shape: the side decides) and on one sheet alone, turned over. A sign
+// error there picked the outer sheet (normals out of the face) and only the slow GeneratedCup
+// tests saw it (sweep L).
+TEST(segment_respirator, the_inner_face_is_the_sheet_looking_toward_the_face) {
+  pipeline::SurfaceMesh shell = clean_cup("onesize");
+  ASSERT_TRUE(CGAL::is_closed(shell));
+  ASSERT_GT(mean_normal_z(shell), -0.05);  // a closed shell looks nowhere on average
+  pipeline::SurfaceMesh inner = shell;
+  layering::RespiratorSegmentInfo info;
+  layering::segment_respirator(inner, &info);
+  EXPECT_TRUE(info.thin_shell);
+  EXPECT_LT(mean_normal_z(inner), -0.3) << "the outer sheet was taken";
+
+  pipeline::SurfaceMesh sheet = inner;
+  CGAL::Polygon_mesh_processing::reverse_face_orientations(sheet);
+  ASSERT_GT(mean_normal_z(sheet), 0.3);
+  layering::segment_respirator(sheet, &info);
+  EXPECT_FALSE(info.thin_shell);
+  EXPECT_LT(mean_normal_z(sheet), -0.3) << "a single sheet was left looking away from the face";
 }
 
 TEST(segment_cli, writes_labelled_ply_and_rejects_bad_input) {
