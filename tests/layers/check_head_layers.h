@@ -44,6 +44,41 @@ inline void expect_valid_head_layers(const layering::FeModel& m, const layering:
     // R ≈ 80 mm, which no correct mesh could hide); any local thinning or leaning column counts against it.
     EXPECT_NEAR(v.volume / v.mid_area_volume, 1.0, 0.05) << v.group;
   }
+  // Which way the surfaces look. head_skin is the contact master (outward: the enclosed volume by
+  // the divergence theorem is the head's, > 1 litre; inward it is negative); each part's skin
+  // surface looks away from the head's centre and its bone_inner toward it. A reversed skin
+  // winding had passed every layers test (sweep L) and was seen only by assemble's.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& p : m.nodes) centre += p;
+  centre /= double(m.nodes.size());
+  auto outwardness = [&](const layering::Block& b) {  // Σ area-normal · (centroid - centre), or 6 V
+    double s = 0;
+    for (std::size_t e = 0; e < b.size(); ++e) {
+      const Eigen::Vector3d a = m.nodes[b.conn[3 * e]] - centre, q = m.nodes[b.conn[3 * e + 1]] - centre,
+                            c = m.nodes[b.conn[3 * e + 2]] - centre;
+      s += a.dot(q.cross(c));
+    }
+    return s;
+  };
+  const layering::Block* head_skin = m.find("head_skin");
+  ASSERT_NE(head_skin, nullptr);
+  EXPECT_GT(outwardness(*head_skin) / 6, 1e6) << "head_skin does not bound the head's volume outward";
+  std::size_t part_surfaces = 0;
+  for (const auto& b : m.blocks) {
+    if (b.dim != 2) continue;
+    const auto ends_with = [&](const std::string& tail) {
+      return b.name.size() > tail.size() && b.name.compare(b.name.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    if (ends_with("_skin_surface")) {
+      EXPECT_GT(outwardness(b), 0.0) << b.name;
+      ++part_surfaces;
+    }
+    if (ends_with("_bone_inner")) {
+      EXPECT_LT(outwardness(b), 0.0) << b.name;
+      ++part_surfaces;
+    }
+  }
+  EXPECT_EQ(part_surfaces, 8u);  // forehead, cheeks and chin: skin and bone each
   for (const char* g : {"forehead_skin", "forehead_bone", "left_cheek_fat", "right_cheek_muscle", "chin_bone",
                         "head_skin", "back_of_head", "left_cheek_bone_inner"})
     EXPECT_NE(m.find(g), nullptr) << g;
