@@ -76,6 +76,14 @@ TEST(place_respirator, gap_is_3mm_measured_and_symmetric) {
   // The dome's rim is symmetric about x = 0, so its symmetry plane lands on the sagittal plane
   // through the sellion/menton midpoint (the documented placement) up to rounding.
   EXPECT_NEAR(shift.x(), 0.5 * (s.lm.at("sellion").x() + s.lm.at("menton").x()), 1e-6);
+  // Vertically, the rim's top (its nose bridge) lands the bridge offset below the sellion. Only an
+  // error message's numbers had seen a wrong sign there (sweep L: the respirator 10 mm too high).
+  const layering::Block* rim = s.resp.find("respirator_rim");
+  ASSERT_NE(rim, nullptr);
+  double rim_top = -1e300;
+  for (int i : rim->conn) rim_top = std::max(rim_top, s.resp.nodes[i].y() + shift.y());
+  EXPECT_NEAR(rim_top, s.lm.at("sellion").y() - dome_place().bridge_offset_mm, 1e-9);
+  EXPECT_GT(dome_place().bridge_offset_mm, 0.0);
 }
 
 // A respirator that does not meet the face is refused where it is placed (straps and assemble,
