@@ -4,6 +4,9 @@
 #include <CGAL/Polygon_mesh_processing/border.h>
 
 #include <cmath>
+#include <cstdio>
+#include <set>
+#include <vector>
 
 #include "scan2cad/fill_holes.h"
 #include "test_meshes.h"
@@ -85,4 +88,44 @@ TEST(fill_holes, head_fills_every_loop) {
   ASSERT_EQ(holes.size(), 1u);
   EXPECT_TRUE(holes[0].filled);
   EXPECT_TRUE(CGAL::is_closed(m));
+}
+
+// The edges inside a fill follow fill_edge_mm, finer than the loop's: a reconstructed head's loops
+// have ~3 mm edges, and complete_by_symmetry reshapes a fill only as finely as it is meshed. An
+// inverted density (loop edge over fill edge upside down) filled at the loop's size and only a
+// slow repair test saw it, through a table's lowest point (sweep L). Liepa's refinement stops
+// splitting a triangle once its centroid is within a vertex's scale / density of the vertex, so
+// the inner edges come out longer than the scale asked for: 1.70 and 1.68 times it here
+// (fill_holes.h); the bounds allow the factor 1.3-2.1 and ask that the size follow the request.
+TEST(fill_hole, edges_inside_a_fill_follow_the_requested_length) {
+  std::vector<double> mean_mm;
+  for (const double fill_edge_mm : {1.0, 0.7}) {
+    SCOPED_TRACE(fill_edge_mm);
+    auto m = test_meshes::mesh_of(test_meshes::sphere_soup(50, 45));  // edges ≈ 3.5 mm
+    cut_hole(m, {50, 0, 0}, 10.0);
+    std::vector<pipeline::SurfaceMesh::Halfedge_index> border;
+    CGAL::Polygon_mesh_processing::extract_boundary_cycles(m, std::back_inserter(border));
+    ASSERT_EQ(border.size(), 1u);
+    std::vector<pipeline::VertexIndex> inner;
+    const scan2cad::HoleInfo hole = scan2cad::fill_hole(m, border[0], fill_edge_mm, nullptr, &inner);
+    ASSERT_TRUE(hole.filled);
+    const double loop_edge_mm = hole.perimeter_mm / double(hole.boundary_edges);
+    std::set<pipeline::VertexIndex> is_inner(inner.begin(), inner.end());
+    double sum = 0;
+    std::size_t n = 0;
+    for (auto e : m.edges()) {
+      const auto a = m.vertex(e, 0), b = m.vertex(e, 1);
+      if (!is_inner.count(a) || !is_inner.count(b)) continue;
+      sum += std::sqrt(CGAL::squared_distance(m.point(a), m.point(b)));
+      ++n;
+    }
+    ASSERT_GT(n, 20u);
+    mean_mm.push_back(sum / double(n));
+    std::printf("loop edge %.2f mm, fill edge %.2f asked, %.2f mean over %zu inner edges\n", loop_edge_mm,
+                fill_edge_mm, mean_mm.back(), n);
+    EXPECT_GT(loop_edge_mm, 3.0);
+    EXPECT_GT(mean_mm.back() / fill_edge_mm, 1.3);
+    EXPECT_LT(mean_mm.back() / fill_edge_mm, 2.1);
+  }
+  EXPECT_NEAR(mean_mm[1] / mean_mm[0], 0.7, 0.1);
 }

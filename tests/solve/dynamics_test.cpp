@@ -766,7 +766,7 @@ TEST(run, progress_follows_a_shrinking_step_and_stays_within_100_percent) {
   const auto plan = log.find(" steps; mass");
   ASSERT_NE(plan, std::string::npos) << log;
   planned = std::stol(log.substr(log.rfind(", ", plan) + 2));
-  EXPECT_GT(r.steps, planned) << "the step did not shrink: this test would not see the overshoot\n" << log;
+  EXPECT_GT(r.steps, planned) << "the stable step was not updated as the block compressed (and this test would not see the overshoot)\n" << log;
   std::size_t percents = 0;
   for (std::size_t at = log.find("%)"); at != std::string::npos; at = log.find("%)", at + 1), ++percents)
     EXPECT_LE(std::stod(log.substr(log.rfind('(', at) + 1)), 100.0) << log;
