@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Converts solve's results.msh into an XDMF time series (one step per output time; data in a .h5
 beside it) and a .vtu of the last output time, for ParaView. Every cell carries the number of its
-physical group as cell data "part"; <out>_parts.csv names them (face parts, tissues, straps).
+physical group as cell data "part"; <out>_parts.csv names them (face parts, tissues, straps, and
+the groups of nodes only, the rim and the strap ends, as vertex cells).
 Run with /usr/bin/python3 (Debian meshio, numpy).
 
     /usr/bin/python3 solve/msh_to_vtu.py results.msh results.xdmf
@@ -37,7 +38,7 @@ def node_data_blocks(path):
             yield name, reals[0] if reals else 0.0, data[:, 0].astype(np.int64), data[:, 1:1 + ncomp]
 
 
-CELL_DIM = {"triangle": 2, "quad": 2, "tetra": 3, "hexahedron": 3, "wedge": 3}
+CELL_DIM = {"vertex": 0, "triangle": 2, "quad": 2, "tetra": 3, "hexahedron": 3, "wedge": 3}
 
 
 def part_labels(mesh, keep):

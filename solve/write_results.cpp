@@ -59,6 +59,20 @@ void write_mesh_msh(const Model& m, const std::string& path, const std::function
       const int pg = gmsh::model::addPhysicalGroup(2, {ent});
       gmsh::model::setPhysicalName(2, pg, name);
     }
+    // The other node groups (the respirator's rim and the strap ends, lines and points in the
+    // model) as points, so that results.msh names every group a deck can address: the nodes
+    // whose force forces.csv tracks could not be picked in gmsh or ParaView.
+    for (const auto& [name, nodes] : m.node_groups) {
+      bool written = m.surfaces.count(name) > 0;
+      for (const auto& p : m.parts) written = written || p.name == name;
+      if (written || nodes.empty() || !nodes_added) continue;
+      const int ent = gmsh::model::addDiscreteEntity(0);
+      std::vector<std::size_t> etags(nodes.size()), conn(nodes.size());
+      for (std::size_t k = 0; k < nodes.size(); ++k) etags[k] = next_elem++, conn[k] = ntags[nodes[k]];
+      gmsh::model::mesh::addElementsByType(ent, 15, etags, conn);  // 15: gmsh's one-node point
+      const int pg = gmsh::model::addPhysicalGroup(0, {ent});
+      gmsh::model::setPhysicalName(0, pg, name);
+    }
     pipeline::write_gmsh_model(path, append);
   } catch (const std::string& e) {
     throw pipeline::io_failed(path, "gmsh cannot build the mesh: " + e);

@@ -10,7 +10,8 @@
 
 namespace solve {
 
-/// Writes the model's parts and named surfaces (triangles), one physical group each, and all nodes
+/// Writes the model's parts and named surfaces (triangles), one physical group each, its other
+/// node groups (the rim's and the strap ends' nodes) as point groups, and all nodes
 /// (the model's gmsh node tags) to `path` as msh 4.1 ASCII, through the gmsh API, atomically and
 /// checked whole (pipeline::write_gmsh_model).
 /// @param[in] append  if set, called with the temporary file after the mesh is in it, to append
