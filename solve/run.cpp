@@ -205,8 +205,8 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   std::size_t n_elem = 0;
   for (const auto& p : m.parts) n_elem += p.size();
   const double span = c.end_time - s.time();  // at most one frame and one history row per step
-  require_room_for_outputs(m, n_elem, opt.out_dir, std::min(steps_needed, span / out_dt) + 2,
-                           std::min(steps_needed, span / hist_dt) + 2, opt.write_results);
+  require_room_for_outputs(m, n_elem, opt.out_dir, std::ceil(std::min(steps_needed, span / out_dt)) + 2,
+                           std::ceil(std::min(steps_needed, span / hist_dt)) + 2, opt.write_results);  // whole counts
   std::error_code ec;
   fs::create_directories(opt.out_dir, ec);
   if (!fs::is_directory(opt.out_dir))
