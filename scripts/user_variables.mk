@@ -1,7 +1,9 @@
 # The variables a user gives make on its command line (README.md), checked by the top Makefile
 # and Makefile.cases alike. A misspelt one was taken as a new variable and ignored:
 # HEADFROM_SCAN= ran the generated head, CASE= printed the help with exit 0.
-USER_VARIABLES := case HEADFORM_SCAN RESPIRATOR_SCAN LANDMARKS HEADFORM_UNIT RESPIRATOR_UNIT BUILD JOBS
+# A case's placement and strap settings (Makefile.cases passes each to straps and assemble alike).
+CASE_SETTINGS := STRAP_LENGTH_MM STRAP_WIDTH_MM STRAP_THICKNESS_MM GAP_MM BRIDGE_OFFSET_MM MAX_RIM_OFF_MM
+USER_VARIABLES := case HEADFORM_SCAN RESPIRATOR_SCAN LANDMARKS HEADFORM_UNIT RESPIRATOR_UNIT BUILD JOBS $(CASE_SETTINGS)
 $(foreach v,$(.VARIABLES),$(if $(filter command line,$(origin $(v))),$(if $(filter $(v),$(USER_VARIABLES)),,\
   $(error unknown variable $(v)=$($(v)): make takes $(USER_VARIABLES) (see make help)))))
 
@@ -42,3 +44,15 @@ user_file = $(if $(filter-out undefined,$(origin $(1))),\
 $(call user_file,HEADFORM_SCAN)
 $(call user_file,RESPIRATOR_SCAN)
 $(call user_file,LANDMARKS)
+
+# The case settings: taken from the command line or the case file, never from the shell's
+# environment (as BUILD: a GAP_MM exported for something else would change every model), and each
+# a number (its range is the stage program's to check: straps --help). Checked again by
+# Makefile.cases after the case file is read.
+$(foreach v,$(CASE_SETTINGS),$(if $(filter environment%,$(origin $(v))),$(eval undefine $(v))))
+case_setting = $(if $(filter-out undefined,$(origin $(1))),\
+  $(if $(word 2,$($(1)))$(findstring ',$($(1)))$(findstring ",$($(1))),\
+    $(error $(1)='$($(1))': expected one number in mm),\
+  $(if $(shell printf '%s\n' '$($(1))' | grep -Exq -- '-?[0-9]+([.][0-9]*)?' || echo bad),\
+    $(error $(1)=$($(1)): expected a number in mm (make help)))))
+$(foreach v,$(CASE_SETTINGS),$(call case_setting,$(v)))

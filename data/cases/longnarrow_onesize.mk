@@ -5,3 +5,4 @@ HEADFORM := longnarrow
 RESPIRATOR := onesize
 # HEADFORM_SCAN := path/to/head_scan.ply
 # RESPIRATOR_SCAN := path/to/respirator_scan.ply
+# Strap and placement settings [mm] (make help), e.g.: STRAP_LENGTH_MM := 280

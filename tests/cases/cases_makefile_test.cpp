@@ -197,6 +197,11 @@ TEST_F(CasesMake, a_dry_run_changes_nothing_and_a_scan_is_known_by_its_content) 
   ASSERT_EQ(make("-n case=medium_onesize HEADFORM_SCAN=" + scan.string(), &ran), 0) << log_text(ran);
   EXPECT_TRUE(ran.empty()) << log_text(ran);
   EXPECT_EQ(folder_state(build_), before) << log_text(ran);
+  // and it lists what a real run would re-run: the case's own chain on that scan (it listed nothing)
+  EXPECT_NE(file_text(build_ / "make.out").find("/reconstruct --in " + scan.string()), std::string::npos)
+      << file_text(build_ / "make.out");
+  EXPECT_NE(file_text(build_ / "make.out").find("/align --in " + (build_ / "cases/medium_onesize/head").string()),
+            std::string::npos) << file_text(build_ / "make.out");
   ASSERT_EQ(make("-n case=small_onesize", &ran), 0);
   EXPECT_EQ(folder_state(build_), before) << "a dry run of another case made its folders";
   EXPECT_NE(file_text(build_ / "make.out").find("/reconstruct --in "), std::string::npos)  // it still says what it would run
@@ -241,6 +246,9 @@ TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
       {"LANDMARKS=/nonexistent.json", "LANDMARKS=/nonexistent.json: no such file"},
       {"LANDMARKS=" + build_.string(), ": is a folder, give a file"},
       {"RESPIRATOR_SCAN=" + (build_ / "empty.ply").string(), "empty.ply: the file is empty"},
+      {"GAP_MM=abc", "GAP_MM=abc: expected a number in mm"},
+      {"STRAP_LENGTH_MM=", "STRAP_LENGTH_MM=: expected a number in mm"},
+      {"'BRIDGE_OFFSET_MM=5 6'", "BRIDGE_OFFSET_MM='5 6': expected one number in mm"},
   };
   for (const auto& [args, expected] : refused) {
     EXPECT_NE(make("case=medium_onesize " + args, &ran), 0) << args;
@@ -363,6 +371,55 @@ TEST_F(CasesMake, a_unit_reaches_reconstruct_and_a_changed_setup_leaves_no_stale
   EXPECT_EQ(count(ran, "reconstruct", "/cases/medium_onesize/head/"), 1) << log_text(ran);
   for (const char* stale : {"head/repaired.ply", "head/layers.msh", "straps.msh", "model.msh", "stage1.json"})
     EXPECT_FALSE(fs::exists(build_ / "cases/medium_onesize" / stale)) << stale;
+}
+
+// A case's placement and strap settings reach straps and assemble alike (the straps laid for the
+// gap and thickness the model gets), are tracked (a change re-runs those two stages and nothing
+// before them; a failed re-run leaves no model of the old settings), and are never taken from the
+// shell's environment.
+TEST_F(CasesMake, case_settings_reach_straps_and_assemble_and_a_change_reruns_only_them) {
+  std::vector<std::string> ran;
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  const fs::path c = build_ / "cases/medium_onesize";
+  const std::string settings = "STRAP_LENGTH_MM=280 GAP_MM=2.5 STRAP_THICKNESS_MM=1.5 BRIDGE_OFFSET_MM=-2";
+  ASSERT_EQ(make("case=medium_onesize " + settings, &ran), 0) << log_text(ran);
+  EXPECT_EQ(ran.size(), 2u) << log_text(ran);
+  EXPECT_EQ(count(ran, "straps", "/cases/medium_onesize/"), 1) << log_text(ran);
+  EXPECT_EQ(count(ran, "assemble", "/cases/medium_onesize/"), 1) << log_text(ran);
+  const std::string straps = file_text(c / "straps.msh"), model = file_text(c / "model.msh");
+  for (const char* o : {"--length-mm 280", "--gap-mm 2.5", "--thickness-mm 1.5", "--bridge-offset-mm -2"})
+    EXPECT_NE(straps.find(o), std::string::npos) << o << ": " << straps;
+  for (const char* o : {"--gap-mm 2.5", "--strap-thickness-mm 1.5", "--bridge-offset-mm -2"})
+    EXPECT_NE(model.find(o), std::string::npos) << o << ": " << model;
+  EXPECT_EQ(model.find("--length-mm"), std::string::npos) << model;
+  EXPECT_NE(file_text(build_ / "make.out").find("settings STRAP_LENGTH_MM=280 STRAP_THICKNESS_MM=1.5 GAP_MM=2.5 BRIDGE_OFFSET_MM=-2"),
+            std::string::npos) << log_text(ran);
+  ASSERT_EQ(make("case=medium_onesize " + settings, &ran), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  // a dry run with another setting lists those two stages, runs nothing and changes nothing
+  const std::string before = folder_state(build_);
+  ASSERT_EQ(make("-n case=medium_onesize STRAP_LENGTH_MM=250", &ran), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  EXPECT_EQ(folder_state(build_), before);
+  const std::string dry = file_text(build_ / "make.out");
+  EXPECT_NE(dry.find("/straps --head"), std::string::npos) << dry;
+  EXPECT_NE(dry.find("--length-mm 250"), std::string::npos) << dry;
+  EXPECT_NE(dry.find("/assemble --head"), std::string::npos) << dry;
+  EXPECT_EQ(dry.find("/layers --in"), std::string::npos) << dry;
+  // from the environment: ignored (nothing re-runs, the settings stay those of the command line)
+  ASSERT_EQ(make("case=medium_onesize " + settings, &ran, "GAP_MM=7 MAX_RIM_OFF_MM=30"), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  // back to the defaults: the two stages again, without options
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0);
+  EXPECT_EQ(ran.size(), 2u) << log_text(ran);
+  EXPECT_EQ(file_text(c / "straps.msh").find("--length-mm"), std::string::npos);
+  EXPECT_EQ(file_text(c / "model.msh").find("--gap-mm"), std::string::npos);
+  ASSERT_EQ(make("case=medium_onesize", &ran, "GAP_MM=7"), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  // a changed setting whose straps fail: no model of the old settings is left
+  EXPECT_NE(make("case=medium_onesize STRAP_LENGTH_MM=250", &ran, "FAIL_STAGE=straps"), 0);
+  for (const char* stale : {"straps.msh", "model.msh", "stage1.json", "stage2.json"})
+    EXPECT_FALSE(fs::exists(c / stale)) << stale;
 }
 
 }  // namespace
