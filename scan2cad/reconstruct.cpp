@@ -717,6 +717,14 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
   clock.start("spacing");
   st.spacing_mm = poisson_spacing(pn);
   st.points_used = pn.size();
+  if (kind == ScanKind::head && opt.max_head_spacing_mm > 0 && st.spacing_mm > opt.max_head_spacing_mm)
+    throw pipeline::bad_input("point cloud", "its points are " + pipeline::format_number(std::round(st.spacing_mm * 100) / 100) +
+                                                 " mm apart (mean spacing to 6 neighbours), too sparse for a head: the "
+                                                 "ears, folds about 1 mm thick, are lost between them, and the tragia "
+                                                 "found without them come out tens of mm off; a head scan needs points "
+                                                 "at most " + pipeline::format_number(opt.max_head_spacing_mm) +
+                                                 " mm apart (a whole adult head: about 30,000 points or more), or give its mesh "
+                                                 "(--max-spacing-mm changes the limit)");
 
   // 5. Reconstruction.
   SurfaceMesh mesh;

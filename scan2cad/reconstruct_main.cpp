@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
   cli.flag("-B", "--keep-support", &keep_support,
            "keep the points of a table or turntable the object stood on (default: a plane at the edge of the "
            "scan that reaches beyond the object is removed)");
+  cli.option("-M", "--max-spacing-mm", &opt.max_head_spacing_mm,
+             "refuse a head cloud whose points are farther apart [mm, mean spacing to 6 neighbours], 0 = no check: its ears are lost",
+             0.0, 100.0);
   cli.option("-T", "--cg-tolerance", &opt.poisson_solver_tolerance, "Poisson CG relative residual", 1e-14, 1e-1);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}});
