@@ -67,7 +67,8 @@ bool plausible_size(double size_mm, double expected_mm) {
 // A unit forced on a size it does not fit passes reconstruct and repair, and align refuses it:
 // "force the unit" had led nowhere (sweep K).
 std::string wrong_size_question(bool too_large) {
-  return std::string("an object of another kind (see --kind), ") + (too_large ? "more than the object, " : "") +
+  return std::string("an object of another kind (see --kind), ") +
+         (too_large ? "more than the object (shoulders, a stand: crop the scan to the head or the respirator), " : "") +
          "or in another unit (see --unit)? align refuses an object of that size";
 }
 

@@ -42,7 +42,8 @@ void require_real_size(const std::string& path, double extent_mm, const std::str
 
 /// The question that ends a refusal of a scan's size (unit detection, reconstruct, repair):
 /// "an object of another kind (see --kind), or in another unit (see --unit)? align refuses an
-/// object of that size"; `too_large` adds "more than the object" (a bust, a table) before the unit.
+/// object of that size"; `too_large` adds "more than the object (shoulders, a stand: crop ...)"
+/// before the unit (a head scanned with its shoulders, sweep O).
 std::string wrong_size_question(bool too_large);
 
 /// head_extent_mm for "head", respirator_extent_mm for "respirator". @throws Error(usage) otherwise.

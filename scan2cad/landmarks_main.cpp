@@ -49,7 +49,10 @@ int main(int argc, char** argv) {
       progress.step("detecting");
       l = pipeline::naming_file(in, [&] { return scan2cad::detect_landmarks(head); });
       for (const std::string& name : scan2cad::guessed_landmarks(l))
-        std::fprintf(stderr, "landmarks: warning: %s is a guess (confidence %.2f, no clear feature): check %s or give --user\n",
+        std::fprintf(stderr,
+                     "landmarks: warning: %s is a guess (confidence %.2f: no clear feature, or it and its other side do "
+                     "not mirror each other, which lowers both): check %s, or give your own (--user FILE; through "
+                     "make, LANDMARKS=FILE)\n",
                      name.c_str(), l.points.at(name).confidence, out.c_str());
     } else {
       l = scan2cad::read_landmarks(user);

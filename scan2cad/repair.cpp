@@ -267,4 +267,16 @@ std::string RepairReport::summary() const {
   return s.str();
 }
 
+std::string RepairReport::large_fill_warning(double min_diameter_mm) const {
+  const HoleInfo* largest = nullptr;
+  for (const auto& h : holes)
+    if (h.filled && !h.kept_open && h.diameter_mm >= min_diameter_mm && (!largest || h.diameter_mm > largest->diameter_mm))
+      largest = &h;
+  if (!largest) return "";
+  return "a hole " + pipeline::format_number(std::round(largest->diameter_mm)) + " mm across was filled (" +
+         std::to_string(largest->faces_added) +
+         " faces): that part of the surface is a faired patch, not the scan (the back of a face-only scan?); a "
+         "strap laid over it follows the patch, and its stretch with it";
+}
+
 }  // namespace scan2cad

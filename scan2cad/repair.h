@@ -99,6 +99,12 @@ struct RepairReport {
   nlohmann::json to_json() const;
   /// A few lines for stderr.
   std::string summary() const;
+  /// "" or, when a hole at least `min_diameter_mm` across was filled, a warning naming it: that
+  /// part of the surface is a faired patch, not the scan. A face-only scan's back of the head
+  /// (243 mm across) came out 178 mm deep where the head is 239, and the straps laid over it
+  /// were stretched half as much, with nothing to say so (sweep O). Default 150 mm: over a neck
+  /// opening (~120 mm), under the back of a face-only scan or a missing crown (~170 mm).
+  std::string large_fill_warning(double min_diameter_mm = 150.0) const;
 };
 
 /// Repairs a polygon soup into a clean surface.

@@ -65,6 +65,8 @@ int main(int argc, char** argv) {
     pipeline::write_all_or_none({{out, [&] { pipeline::write_surface_mesh(out, mesh); }},
                                  {report_path, [&] { pipeline::write_text_atomic(report_path, report.to_json().dump(2) + "\n"); }}});
     std::fprintf(stderr, "repair: %s\n", report.summary().c_str());
+    if (const std::string w = report.large_fill_warning(); !w.empty())
+      std::fprintf(stderr, "repair: warning: %s: %s\n", in.c_str(), w.c_str());
     return 0;
   });
 }

@@ -75,6 +75,14 @@ TEST(face_only_scan, niosh_medium_front_is_closed_and_gives_the_whole_heads_land
   double widest_mm = 0;
   for (const auto& hole : front_report.at("holes")) widest_mm = std::max(widest_mm, hole.at("diameter_mm").get<double>());
   EXPECT_GT(widest_mm, 200.0);
+  // and repair says so, naming the scan: the back of the head is a faired patch the straps will
+  // follow (nothing had said so, sweep O); the whole head has no such hole
+  const std::string front_log = file_text((scratch_dir() / "front.log").string()),
+                    whole_log = file_text((scratch_dir() / "whole.log").string());
+  EXPECT_NE(front_log.find("repair: warning: " + (scratch_dir() / "front.ply").string() + ": a hole "), std::string::npos)
+      << front_log;
+  EXPECT_NE(front_log.find(" mm across was filled ("), std::string::npos) << front_log;
+  EXPECT_EQ(whole_log.find("warning"), std::string::npos) << whole_log;
 
   // The two heads are aligned in frames whose origins differ (the cut head's centre is further
   // forward), so the landmarks are compared by their distances to one another.

@@ -214,7 +214,8 @@ TEST(reconstruct_cli, a_head_given_as_a_respirator_is_rejected) {
   pipeline::write_point_cloud(cloud, niosh_cloud(1.0));
   with_kind("reconstruct", cloud, "point cloud: without its outliers it spans 2");
   with_kind("repair", niosh_medium, "mesh: it spans 285.658 mm, over the 208 mm of the largest respirator: an object of "
-                                    "another kind (see --kind), more than the object, or in another unit (see --unit)?");
+                                    "another kind (see --kind), more than the object (shoulders, a stand: crop the scan to the head or "
+                                    "the respirator), or in another unit (see --unit)?");
   // a stray point does not make the head too large: the same cloud with one point 0.5 m off (the
   // file's box, 586 mm, is over 400 mm; a metre off, the unit could no longer be told)
   pipeline::PointCloud with_stray = niosh_cloud(1.0);

@@ -216,3 +216,21 @@ TEST(surface_distance, the_nearest_scan_point_to_a_reference_point) {
   EXPECT_DOUBLE_EQ(scan2cad::nearest_point_distance_mm(cloud, pipeline::Point(14.0, 4.0, 3.0)), std::sqrt(32.0));
   EXPECT_THROW(scan2cad::nearest_point_distance_mm(pipeline::PointCloud{}, CGAL::ORIGIN), pipeline::Error);
 }
+
+// The warning for a fill that is a large part of the surface: the back of a face-only scan (243 mm
+// across) or a missing crown, not a neck opening (~120 mm), nor a respirator's rim kept open.
+TEST(repair_report, a_large_fill_is_warned_about_a_neck_opening_or_a_rim_is_not) {
+  scan2cad::RepairReport r;
+  scan2cad::HoleInfo neck, back, rim;
+  neck.filled = true, neck.diameter_mm = 120, neck.faces_added = 900;
+  back.filled = true, back.diameter_mm = 243.4, back.faces_added = 47000;
+  rim.kept_open = true, rim.diameter_mm = 300;
+  r.holes = {neck, rim};
+  EXPECT_EQ(r.large_fill_warning(), "");
+  r.holes.push_back(back);
+  EXPECT_EQ(r.large_fill_warning().rfind("a hole 243 mm across was filled (47000 faces): that part of the surface is a "
+                                         "faired patch, not the scan", 0),
+            0u)
+      << r.large_fill_warning();
+  EXPECT_EQ(r.large_fill_warning(250.0), "");
+}
