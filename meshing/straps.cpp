@@ -173,7 +173,10 @@ double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& ski
                                                  " mm strap centred on the back of the head runs past an attachment point: "
                                                  "at most " + pipeline::format_number(std::floor(fits_mm * 10) / 10) +
                                                  " mm fits (the outline between the attachment points is " +
-                                                 pipeline::format_number(std::round(s.back() * 10) / 10) + " mm)");
+                                                 pipeline::format_number(std::round(s.back() * 10) / 10) +
+                                                 " mm): a shorter strap (through make, STRAP_LENGTH_MM=), or a head "
+                                                 "smaller than it is (its back filled in, its tragia off the ears: see "
+                                                 "repair's and landmarks' warnings)?");
   }
   const int n = std::max(2, int(std::ceil(opt.length_mm / opt.element_mm)));
   const int base = int(out->nodes.size());

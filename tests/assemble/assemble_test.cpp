@@ -174,6 +174,9 @@ TEST(make_straps, a_strap_the_head_would_stretch_past_the_limit_is_refused) {
             0u)
       << too_long;
   EXPECT_NE(too_long.find(" mm fits (the outline between the attachment points is "), std::string::npos) << too_long;
+  // and names the make variable and the head's own causes (it named only --length-mm, sweep O)
+  EXPECT_NE(too_long.find("mm): a shorter strap (through make, STRAP_LENGTH_MM=), or a head smaller than it is"),
+            std::string::npos) << too_long;
 }
 
 // The top strap's back point is raised to clear the ears by extrapolating from the attachments;
