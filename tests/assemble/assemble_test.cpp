@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -283,6 +285,30 @@ TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   EXPECT_EQ(d1["output"]["history_groups"].size(), 4u) << d1["output"];  // a force history per strap end
   EXPECT_EQ(d2["output"]["history_groups"].size(), 4u) << d2["output"];
   EXPECT_EQ(d2["ties"].size(), 4u);
+  // Each part's material and shell thickness (the seal given the outer layer's 7 MPa for its 27.7,
+  // a stage II that kept stage I's velocities, passed every test: sweep N).
+  std::map<std::string, std::string> material_of;
+  for (const auto* d : {&d1, &d2})
+    for (const auto& p : (*d)["parts"]) {
+      const std::string g = p["group"], m = p["material"];
+      material_of[g] = m;
+      if (g == "back_of_head") EXPECT_EQ(p["thickness"].get<double>(), 1.0);
+      else if (g.rfind("strap_", 0) == 0) EXPECT_EQ(p["thickness"].get<double>(), 1.0) << g;  // strap_t above
+      else EXPECT_FALSE(p.contains("thickness")) << p;
+    }
+  EXPECT_EQ(material_of.at("respirator_seal"), "seal_layer");
+  EXPECT_EQ(material_of.at("respirator_outer"), "outer_layer");
+  EXPECT_EQ(material_of.at("strap_top"), "strap");
+  EXPECT_EQ(material_of.at("back_of_head"), "back_of_head");
+  EXPECT_EQ(material_of.at("left_cheek_fat"), "fat");
+  EXPECT_EQ(material_of.at("forehead_bone"), "bone");
+  EXPECT_EQ(material_of.at("chin_muscle"), "muscle");
+  EXPECT_EQ(material_of.at("right_cheek_skin"), "skin");
+  const auto strap_t = meshing::make_deck(model, mat, 1, 1.7, "")["parts"];
+  for (const auto& p : strap_t)
+    if (p["group"].get<std::string>().rfind("strap_", 0) == 0) EXPECT_EQ(p["thickness"].get<double>(), 1.7) << p;
+  EXPECT_EQ(d2["initial_state"], nlohmann::json({{"file", "stage1/state.bin"}, {"reset_time", true}, {"reset_velocity", true}}));
+  EXPECT_FALSE(d1.contains("initial_state"));
   // Both decks name the model they are for (solve refuses another): its node count and box.
   EXPECT_EQ(d1["model_check"]["nodes"].get<std::size_t>(), model.nodes.size());
   EXPECT_EQ(d1["model_check"], d2["model_check"]);
