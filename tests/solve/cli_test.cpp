@@ -278,6 +278,17 @@ TEST(solve_cli, good_run_writes_results_state_and_histories) {
                  "assert w and all((d == " + block_number + ").all() for d in w)\""),
             0)
       << c.read("err.txt");
+  // the last frame's values are results.msh's last $NodeData blocks, node for node (meshio keeps
+  // the last block of each name): a reader that took the node-tag column for the first value (the
+  // pressure showed node tags, each vector shifted by a component) passed (sweep N)
+  EXPECT_EQ(c.sh(std::string(SYSTEM_PYTHON) + " -c \"import meshio, numpy; m = meshio.read('" + c.dir +
+                 "/out/results.msh'); v = meshio.read('" + c.dir + "/out/results.vtu'); "
+                 "assert numpy.array_equal(m.points, v.points); "
+                 "assert all(numpy.array_equal(numpy.reshape(m.point_data[f], v.point_data[f].shape), v.point_data[f]) "
+                 "for f in ('displacement', 'velocity', 'contact_pressure', 'von_mises')); "
+                 "assert numpy.abs(v.point_data['displacement']).max() > 0\""),
+            0)
+      << c.read("err.txt");
   // a group of nodes only (the block's "all"; in a case the rim and the strap ends) comes as
   // vertex cells carrying its number
   const auto all_at = parts.find(",all\n");
