@@ -274,6 +274,10 @@ TEST(contact_pair, penetrating_node_gets_k_times_gap_along_the_normal) {
   EXPECT_NEAR(f[2], k * gap, 1e-9 * k * gap);
   const auto free = force_on_slave(m, {1.3, 2.6, +gap}, mass, dt);
   EXPECT_EQ(free[2], 0.0);
+  // Deep, 0.8 mm: 0.7 of the master's mean edge (1.14 mm), within the search depth of one mean
+  // edge (contact.cpp). A depth halved dropped such a slave without force or warning (sweep N).
+  const auto deep = force_on_slave(m, {1.3, 2.6, -0.8}, mass, dt);
+  EXPECT_NEAR(deep[2], k * 0.8, 1e-9 * k * 0.8);
 }
 
 // The search grid follows the master: moved 5 edge lengths onto a slave it was far from when the
