@@ -102,6 +102,21 @@ TEST(segment_head, parts_lie_where_their_names_say) {
   EXPECT_GT(centre(layering::forehead).y(), centre(layering::chin).y() + 50.0);
   EXPECT_NEAR(centre(layering::forehead).x(), 0.0, 10.0);
   EXPECT_NEAR(centre(layering::chin).x(), 0.0, 10.0);
+  // How far up the chin reaches (its top is the mouth line, 0.35 of the face length above the
+  // menton, blended over 8 mm): a line at 0.25 gave the cheeks' fat layer to 12 mm of the chin and
+  // passed every test (sweep N). Measured: 42.3 mm above the menton, 0.351 of the face length (0.250
+  // with that line); 0.03 is 3.6 mm, under half the blend.
+  const auto lm = layering::internal::read_segment_landmarks(fixture);
+  const double face_length = lm.sellion[1] - lm.menton[1];
+  double chin_top = -1e300;
+  for (auto f : mesh.faces())
+    if (label[f] == layering::chin) {
+      const auto h = mesh.halfedge(f);
+      chin_top = std::max({chin_top, mesh.point(mesh.source(h)).y(), mesh.point(mesh.target(h)).y()});
+    }
+  std::printf("chin top %.2f mm above the menton, %.3f of the face length\n", chin_top - lm.menton[1],
+              (chin_top - lm.menton[1]) / face_length);
+  EXPECT_NEAR((chin_top - lm.menton[1]) / face_length, 0.35, 0.03);
 }
 
 // The reader's checks reach segment (all are pipeline::read_landmarks', tested in tests/pipeline),
