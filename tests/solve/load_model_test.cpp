@@ -71,6 +71,37 @@ TEST(write_mesh_msh, every_node_group_reads_back_with_its_nodes) {
   EXPECT_EQ(m.group("strap_end"), std::vector<int>{5});
 }
 
+// A deck's defaults are those solve/README.md documents (assemble's decks set none of these, so
+// every pipeline run takes them): a dt_scale default of 1.0 for 0.9 passed every test (sweep N).
+TEST(apply_deck, defaults_are_the_documented_ones) {
+  solve::Model m = solve::make_block({}, {"m", 1e-3, 1, 0.3, false});
+  solve::apply_deck(m, R"({"materials": {"m": {"density": 1e-3, "E": 1, "nu": 0.3}},
+                           "parts": [{"group": "block", "material": "m"}],
+                           "ties": [{"group_a": "xmin", "group_b": "xmax", "tolerance": 5}],
+                           "contact": [{"slave": "zmin", "master": "zmax"}],
+                           "control": {"end_time": 2}})",
+                    "d.json");
+  const solve::Control& c = m.control;
+  EXPECT_EQ(c.dt_scale, 0.9);
+  EXPECT_EQ(c.damping_alpha, 0.0);
+  EXPECT_EQ(c.dt_target, 0.0);
+  EXPECT_EQ(c.dt_update_interval, 100);
+  EXPECT_EQ(c.hourglass, 0.1);
+  EXPECT_EQ(c.output_interval, 0.0);   // run: end_time / 10
+  EXPECT_EQ(c.history_interval, 0.0);  // run: output_interval / 10
+  EXPECT_EQ(c.energy_tolerance, 0.05);
+  EXPECT_EQ(c.penetration_tolerance, 1.0);
+  ASSERT_EQ(m.contacts.size(), 1u);
+  EXPECT_EQ(m.contacts[0].penalty_scale, 0.1);
+  EXPECT_EQ(m.contacts[0].damping_ratio, 0.0);
+  EXPECT_EQ(m.contacts[0].friction, 0.0);
+  EXPECT_FALSE(m.contacts[0].two_sided);
+  EXPECT_EQ(m.contacts[0].name, "zmin_on_zmax");
+  ASSERT_EQ(m.ties.size(), 1u);
+  EXPECT_EQ(m.ties[0].name, "xmin-xmax");
+  EXPECT_EQ(m.output.node_data.size(), 5u);
+}
+
 // Deck errors name the deck and the key.
 TEST(apply_deck, errors_name_the_key) {
   const solve::Model base = solve::make_block({}, {"m", 1e-3, 1, 0.3, false});
