@@ -159,6 +159,19 @@ scan2cad::Landmarks sided_landmarks(double confidence) {
 }
 }  // namespace
 
+// landmarks.json's measures are of the landmarks they name: a bigonial breadth measured between
+// the zygia passed every test (sweep N), and a researcher reports it as a head dimension.
+TEST(landmarks_json, measures_are_the_distances_they_name) {
+  scan2cad::Landmarks l = sided_landmarks(1.0);
+  l.points["zygion_left"].position.x() = 70, l.points["zygion_right"].position.x() = -69;
+  l.points["tragion_left"].position.x() = 75, l.points["gonion_right"].position.x() = -61;
+  const auto m = nlohmann::json::parse(scan2cad::landmarks_json(l))["measures_mm"];
+  EXPECT_DOUBLE_EQ(m["face_length"].get<double>(), 110.0);                 // sellion y 40 to menton y -70
+  EXPECT_DOUBLE_EQ(m["face_width"].get<double>(), 139.0);                  // zygion to zygion
+  EXPECT_DOUBLE_EQ(m["bitragion_breadth"].get<double>(), 125.0);           // 75 to -50
+  EXPECT_DOUBLE_EQ(m["bigonial_breadth"].get<double>(), 111.0);            // 50 to -61
+}
+
 TEST(read_landmarks, rejects_a_left_point_on_the_right) {
   const auto path = scratch_dir() / "bad.json";
   scan2cad::Landmarks l = sided_landmarks(1.0);
