@@ -90,6 +90,15 @@ TEST(cli, rejects_absurd_and_malformed_values) {
   // an empty value (an unset shell variable): solve --restart "" ran from t = 0 as if not given
   EXPECT_EQ(message({"prog", "-i", ""}), "--in: '' is empty: give a value, or leave --in out");
   EXPECT_EQ(message({"prog", "--in="}), "--in: '' is empty: give a value, or leave --in out");
+  // a range's ends are in it, as --help says ("0.1 to 10"); just past them is not (refusing the
+  // top end passed every test, sweep N)
+  for (const char* end : {"0.1", "10"}) {
+    Args a({"prog", "-i", "a", "-e", end});
+    EXPECT_NO_THROW(cli.parse(a.argc(), a.argv())) << end;
+    EXPECT_EQ(edge, std::stod(end));
+  }
+  EXPECT_EQ(message({"prog", "-i", "a", "-e", "10.0001"}), "--edge: 10.0001 is out of range [0.1, 10]");
+  EXPECT_EQ(message({"prog", "-i", "a", "-e", "0.0999"}), "--edge: 0.0999 is out of range [0.1, 10]");
 }
 
 // A seed is a whole number read exactly: through a double, 1.5 and 1.999 gave seed 1's bytes
