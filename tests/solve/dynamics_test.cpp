@@ -712,6 +712,13 @@ TEST(save_state, restarted_run_with_friction_continues_identically) {
     ASSERT_EQ(a.x()[k], c.x()[k]) << k;
     ASSERT_EQ(a.v()[k], c.v()[k]) << k;
   }
+  // and the works the file carries come back as saved (contact and damping swapped in it passed,
+  // sweep N: energy.csv's columns after a --restart)
+  const solve::SolverState before = b.state();
+  EXPECT_EQ(saved.e_contact, before.e_contact);
+  EXPECT_EQ(saved.e_damping, before.e_damping);
+  EXPECT_EQ(saved.w_external, before.w_external);
+  EXPECT_NE(before.e_contact, before.e_damping);  // else a swap would not show
   solve::SolverState forgetful = saved;
   forgetful.contact_history.clear();
   solve::Solver d(m);
