@@ -307,6 +307,10 @@ TEST(contact_pair, edge_and_vertex_projections_get_contact) {
     EXPECT_NEAR(f[2], k * gap, 1e-9 * k * gap) << xy[0] << ", " << xy[1];
     EXPECT_NEAR(pen, gap, 1e-12);
   }
+  // Beyond the master's free edge (x = 4): within 0.1 of a mean edge (1.14 mm) still pushed, 0.3 mm
+  // beyond not (a tolerance of half an edge pushed it and passed every test: sweep N).
+  EXPECT_NEAR(force_on_slave(m, {4.05, 2.0, -gap}, mass, dt)[2], k * gap, 1e-9 * k * gap);
+  EXPECT_EQ(force_on_slave(m, {4.3, 2.0, -gap}, mass, dt)[2], 0.0);
   // A node in a concave valley (two facets at 90°) whose closest point is the valley edge is
   // pushed toward the edge.
   ContactSpec spec;

@@ -757,6 +757,25 @@ TEST(solver, pressure_and_shear_of_several_pairs_add_up) {
 // height shrinks its stable step as it goes, so the run takes more steps than planned at the
 // start; its progress never passes 100 % (stage I printed "16168/15705 (103%) ... ETA 0.0 s":
 // sweep M). Without progress lines (o.progress false) only the lines at 100 % are printed.
+// A prescribed velocity is taken at the half step the central-difference update moves with, so
+// a velocity rising linearly, v = a·t, gives exactly x = a·t²/2 whatever the steps (Σ dt (t + dt/2)
+// = Σ (t_{n+1}² − t_n²)/2). Sampled at the step's start it lagged by a·t·dt/2 and passed every test
+// (sweep N).
+TEST(velocity_bc, a_linear_velocity_moves_its_nodes_by_the_exact_integral) {
+  solve::Model m = soft_block_fixed_below(2, 2, 2);
+  const double a = -0.2;  // [mm/ms²]
+  m.bcs.push_back({"zmax", 2, solve::BcKind::velocity, solve::Curve{{0, 2}, {0, 2 * a}}});
+  m.control.end_time = 1.0;
+  solve::Solver s(m);
+  s.run_until(1.0);
+  ASSERT_EQ(s.health(), "");
+  const double t = s.time();
+  for (int node : m.group("zmax")) {
+    const std::size_t z = 3 * std::size_t(node) + 2;
+    EXPECT_NEAR(s.x()[z] - m.X[z], 0.5 * a * t * t, 1e-12) << node;
+  }
+}
+
 TEST(run, progress_follows_a_shrinking_step_and_stays_within_100_percent) {
   solve::Model m = soft_block_fixed_below(2, 2, 4);
   m.bcs.push_back({"zmax", 2, solve::BcKind::velocity, solve::Curve{{0, 0.1, 4}, {0, -0.4, -0.4}}});

@@ -169,3 +169,26 @@ TEST(von_mises, uniaxial_stretch_matches_the_closed_form) {
     for (double v : vm) EXPECT_NEAR(v, expected, 1e-9 * expected) << int(t);
   }
 }
+
+// A membrane (the straps) stretched by λ along x and free across, in plane stress: with the
+// St. Venant-Kirchhoff law S = D E, the lateral stretch λt that leaves S22 = 0 is
+// sqrt(1 − ν(λ² − 1)), S11 = E·E11, and the Cauchy stress over the deformed area (ratio λ·λt) is
+// σ11 = λ² S11 / (λ λt), its von Mises value. An area ratio taken as det C, (λ λt)², passed every
+// test (sweep N).
+TEST(von_mises, uniaxial_stretch_of_a_membrane_matches_the_closed_form) {
+  const double E = 1.0, nu = 0.3, stretch = 1.2;
+  const double e11 = 0.5 * (stretch * stretch - 1), across = std::sqrt(1 - nu * (stretch * stretch - 1));
+  const double expected = stretch * stretch * E * e11 / (stretch * across);
+  const double M[3][3] = {{stretch, 0, 0}, {0, across, 0}, {0, 0, 1}};
+  for (ElementType t : {ElementType::quad4, ElementType::tri3}) {
+    solve::PlateSpec ps;
+    ps.type = t;
+    ps.nx = 2;
+    ps.ny = 3;
+    ps.size = {2, 3};
+    solve::Solver s(solve::make_plate(ps, {"m", 1e-3, E, nu, false}));
+    const auto vm = set_positions(s, M);
+    ASSERT_FALSE(vm.empty());
+    for (double v : vm) EXPECT_NEAR(v, expected, 1e-9 * expected) << int(t);
+  }
+}
