@@ -45,6 +45,11 @@ TEST(add_outliers, fraction_is_as_requested) {
   const double f = double(off) / cloud.points.size();
   EXPECT_GT(f, 0.01 * 0.85);
   EXPECT_LE(f, 0.01 + 1e-9);
+  // The fraction is of the result, outliers included: 10 % of 9,000 points is 1,000 added to
+  // them (adding 900, a fraction of the input, changed only a golden hash: sweep N)
+  auto small = sample_surface(square(), 9000, rng);
+  EXPECT_EQ(add_outliers(small, OutlierOptions{0.1}, rng), 1000u);
+  EXPECT_EQ(small.points.size(), 10000u);
 }
 
 TEST(punch_holes, removes_points_inside_only) {
