@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include <Eigen/Dense>
 
@@ -130,26 +131,35 @@ TEST(ties, matched_at_the_positions_the_run_starts_from) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "state.bin"));
 }
 
+// A rigid box of nx x ny x nz 1 mm hexahedra centred on the origin, its nodes moving with the
+// rigid rotation at w [rad/ms] about it (the body's angular velocity set to match).
+static std::unique_ptr<solve::Solver> spinning_rigid_box(int nx, int ny, int nz, const Eigen::Vector3d& w) {
+  solve::BlockSpec b;
+  b.type = ElementType::hex8;
+  b.nx = nx; b.ny = ny; b.nz = nz;
+  b.size = {double(nx), double(ny), double(nz)};
+  b.origin = {-0.5 * nx, -0.5 * ny, -0.5 * nz};
+  solve::Model m = solve::make_block(b, {"bone", 4.5e-3, 1000, 0.3, true});
+  m.control.end_time = 100;
+  auto s = std::make_unique<solve::Solver>(m);
+  solve::SolverState st = s->state();
+  st.rigid = {0, 0, 0, w.x(), w.y(), w.z()};
+  for (std::size_t i = 0; i < m.n_nodes(); ++i) {
+    const Eigen::Vector3d v = w.cross(Eigen::Vector3d(st.x[3 * i], st.x[3 * i + 1], st.x[3 * i + 2]));
+    for (int d = 0; d < 3; ++d) st.v[3 * i + std::size_t(d)] = v[d];
+  }
+  s->set_state(st);
+  return s;
+}
+
 // A free rigid body spinning about an axis through its mass centre keeps its shape exactly (its
 // nodes are rotated, not integrated) and its kinetic energy to 1e-9 (no external moment; the
 // explicit ω update has a O(Δt²) error that is zero for a principal axis).
 TEST(rigid_body, free_spin_keeps_shape_and_energy) {
-  solve::BlockSpec b;
-  b.type = ElementType::hex8;
-  b.nx = 2; b.ny = 2; b.nz = 2;
-  b.size = {2, 2, 2};
-  b.origin = {-1, -1, -1};
-  solve::Model m = solve::make_block(b, {"bone", 4.5e-3, 1000, 0.3, true});
-  m.control.end_time = 100;
-  solve::Solver s(m);
-  solve::SolverState st = s.state();
   const double w = 0.5;  // rad/ms about z (a principal axis of the cube)
-  st.rigid = {0, 0, 0, 0, 0, w};
-  for (std::size_t i = 0; i < m.n_nodes(); ++i) {
-    st.v[3 * i] = -w * st.x[3 * i + 1];
-    st.v[3 * i + 1] = w * st.x[3 * i];
-  }
-  s.set_state(st);
+  const auto spinning = spinning_rigid_box(2, 2, 2, Eigen::Vector3d(0, 0, w));
+  solve::Solver& s = *spinning;
+  const solve::Model& m = s.model();
   s.step();  // from here on the node velocities are the exact chords of the rotation
   s.request_energy();
   s.step();
@@ -173,22 +183,10 @@ TEST(rigid_body, free_spin_keeps_shape_and_energy) {
 // backward) and passed every test (sweep N); L's direction then wanders. Tolerance 1e-3 of |L|:
 // the explicit ω update's O(Δt²) error over ~1.5 turns, against a direction off by tens of %.
 TEST(rigid_body, a_tumbling_body_keeps_its_angular_momentum) {
-  solve::BlockSpec b;
-  b.type = ElementType::hex8;
-  b.nx = 3; b.ny = 2; b.nz = 1;
-  b.size = {3, 2, 1};
-  b.origin = {-1.5, -1, -0.5};
-  solve::Model m = solve::make_block(b, {"bone", 4.5e-3, 1000, 0.3, true});
-  m.control.end_time = 100;
-  solve::Solver s(m);
-  solve::SolverState st = s.state();
-  const Eigen::Vector3d w(0.3, 0.2, 0.4);  // rad/ms, off every principal axis of the 3 x 2 x 1 box
-  st.rigid = {0, 0, 0, w.x(), w.y(), w.z()};
-  for (std::size_t i = 0; i < m.n_nodes(); ++i) {
-    const Eigen::Vector3d v = w.cross(Eigen::Vector3d(st.x[3 * i], st.x[3 * i + 1], st.x[3 * i + 2]));
-    for (int d = 0; d < 3; ++d) st.v[3 * i + std::size_t(d)] = v[d];
-  }
-  s.set_state(st);
+  // rad/ms, off every principal axis of the 3 x 2 x 1 box
+  const auto tumbling = spinning_rigid_box(3, 2, 1, Eigen::Vector3d(0.3, 0.2, 0.4));
+  solve::Solver& s = *tumbling;
+  const solve::Model& m = s.model();
   const auto momentum = [&] {
     Eigen::Vector3d c = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
     double mt = 0;
