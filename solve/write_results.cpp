@@ -1,6 +1,7 @@
 #include "solve/write_results.h"
 
 #include <cstdio>
+#include <set>
 #include <string>
 
 #include <gmsh.h>
@@ -31,7 +32,9 @@ void write_mesh_msh(const Model& m, const std::string& path, const std::function
     for (std::size_t i = 0; i < ntags.size(); ++i) ntags[i] = std::size_t(m.node_tag(i));
     std::size_t next_elem = 1;
     bool nodes_added = false;
+    std::set<std::string> part_names;  // written as their elements: not again as surfaces or nodes
     for (const auto& p : m.parts) {
+      part_names.insert(p.name);
       const int dim = is_membrane(p.type) ? 2 : 3;
       const int ent = gmsh::model::addDiscreteEntity(dim);
       if (!nodes_added) {
@@ -47,9 +50,7 @@ void write_mesh_msh(const Model& m, const std::string& path, const std::function
     }
     // Named surfaces (contact masters, faces of generated blocks) as triangle groups.
     for (const auto& [name, tris] : m.surfaces) {
-      bool is_part = false;
-      for (const auto& p : m.parts) is_part = is_part || p.name == name;
-      if (is_part || tris.empty() || !nodes_added) continue;
+      if (part_names.count(name) || tris.empty() || !nodes_added) continue;
       const int ent = gmsh::model::addDiscreteEntity(2);
       std::vector<std::size_t> etags(tris.size()), conn;
       for (auto& t : etags) t = next_elem++;
@@ -63,9 +64,7 @@ void write_mesh_msh(const Model& m, const std::string& path, const std::function
     // model) as points, so that results.msh names every group a deck can address: the nodes
     // whose force forces.csv tracks could not be picked in gmsh or ParaView.
     for (const auto& [name, nodes] : m.node_groups) {
-      bool written = m.surfaces.count(name) > 0;
-      for (const auto& p : m.parts) written = written || p.name == name;
-      if (written || nodes.empty() || !nodes_added) continue;
+      if (part_names.count(name) || m.surfaces.count(name) || nodes.empty() || !nodes_added) continue;
       const int ent = gmsh::model::addDiscreteEntity(0);
       std::vector<std::size_t> etags(nodes.size()), conn(nodes.size());
       for (std::size_t k = 0; k < nodes.size(); ++k) etags[k] = next_elem++, conn[k] = ntags[nodes[k]];
