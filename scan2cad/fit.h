@@ -128,9 +128,9 @@ struct FitDeviation {
   pipeline::Point outline_shift_at{0, 0, 0};
 };
 
-/// Per part: distances of the fitted part's vertices and triangle centroids to the whole
-/// reference surface, and of the reference part's vertices and centroids to the whole fitted
-/// surface (AABB trees); outline_shift_mm measures the same samples against the other surface's
+/// Per part: distances of the fitted part's samples (each triangle's first corner and its
+/// centroid) to the whole reference surface, and of the reference part's samples to the whole
+/// fitted surface (AABB trees); outline_shift_mm measures the same samples against the other surface's
 /// same part.
 std::vector<FitDeviation> fit_deviation(const pipeline::SurfaceMesh& reference,
                                         const pipeline::SurfaceMesh& fitted, const std::string& kind);

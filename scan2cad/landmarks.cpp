@@ -42,6 +42,7 @@ std::string landmarks_json(const Landmarks& l) {
   nlohmann::json j;
   j["frame"] = "x lateral (+x = subject's left), y up, z out of the face; mm";
   j["source"] = l.source;
+  if (l.source == "detected") j["window_scale"] = l.window_scale;
   for (const auto& [name, p] : l.points)
     j["landmarks"][name] = {{"position", {p.position.x(), p.position.y(), p.position.z()}},
                             {"confidence", p.confidence}};

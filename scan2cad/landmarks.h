@@ -20,13 +20,41 @@ using Landmark = pipeline::Landmark;  ///< position [mm] in the head frame, conf
 struct Landmarks {
   std::string source = "detected";  ///< "detected" or "user"
   std::map<std::string, Landmark> points;
+  double window_scale = 1;  ///< detected: landmark_window_scale of the head; user: 1
 };
 
 /// The landmarks every file must hold (pipeline::head_landmark_names; extras such as subnasale are
 /// allowed).
 const std::vector<std::string>& required_landmarks();
 
-/// Detects the landmarks on an aligned head.
+/// Detection's windows (the ear 80-190 mm behind the nose tip, standing 10 mm out of the side of
+/// the head; the cheek 0-40 mm below the sellion; ramps 4 mm wide, ray grids 0.5 mm apart, ...)
+/// were set and checked on the NIOSH medium and large headforms and the five generated heads,
+/// whose nose tips lie 80.9-94.3 mm from their mentons. Outside this range of nose-to-chin
+/// spans [mm] every length of detection is scaled.
+inline constexpr double min_tuned_nose_chin_mm = 80, max_tuned_nose_chin_mm = 95;
+
+/// The scale of detection for a head whose nose tip lies `span_mm` from its menton: 1 within the
+/// tuned range, else the span over the range's nearer end, clamped to 0.7-1.4 (spans of 56-133
+/// mm, past a child's and the largest adult's). Scaled by the span over NIOSH medium's within
+/// the range too, the generated large head's landmarks moved up to 2 mm and its left cheek's
+/// layers came out 7 % thin, and with the ear's 10 mm scaled (1.09) the temple in front of
+/// NIOSH large's ear joined the ear (its tragion moved 11 mm under re-meshing).
+double landmark_window_scale_of_span(double span_mm);
+
+/// The scale of detection for a head: landmark_window_scale_of_span of its nose tip's distance to
+/// its menton, both on the midline section, the menton found with the chin window at the
+/// previous scale, twice from 1 (the nose tip and chin are found with unscaled windows on heads
+/// 0.75-1.3 times NIOSH medium's size; the ear, cheek and sellion are not: with fixed windows
+/// the medium head scaled by 0.8 got its tragia 25 mm off at confidence 0.93, and scaled by 1.2
+/// its sellion on the nose bridge and its zygia 45 mm off, sweep O 2026-12-07).
+/// @param[in] head  as for detect_landmarks
+/// @throws pipeline::Error(algorithm) if the midline section or the chin is not found
+double landmark_window_scale(const pipeline::SurfaceMesh& head);
+
+/// Detects the landmarks on an aligned head, every length of detection (windows, ramps, grids,
+/// the soft extremes' widths, the lengths confidences are measured in) times
+/// landmark_window_scale(head).
 /// @param[in] head  closed or open triangle surface in the head frame [mm]; not modified
 /// @return all required landmarks
 /// @pre    `head` is in the frame: on a head that is not (upside down, say) detection may find

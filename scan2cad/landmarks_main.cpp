@@ -10,6 +10,7 @@
 // Sample runs:
 //   landmarks --in build/cases/medium_onesize/head/aligned.ply --out landmarks.json
 //   landmarks --in aligned.ply --user my_landmarks.json --out landmarks.json
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -69,7 +70,11 @@ int main(int argc, char** argv) {
     // 3. Write atomically
     pipeline::write_text_atomic(out, scan2cad::landmarks_json(l));
     std::ostringstream s;
-    s << l.source << ": face length " << scan2cad::face_length(l) << " mm, face width " << scan2cad::face_width(l) << " mm";
+    s << l.source;
+    if (l.source == "detected" && l.window_scale != 1.0)
+      s << " (a head outside the sizes detection was set on: its lengths scaled by "
+        << pipeline::format_number(std::round(l.window_scale * 100) / 100) << ")";
+    s << ": face length " << scan2cad::face_length(l) << " mm, face width " << scan2cad::face_width(l) << " mm";
     progress.finish(s.str());
     return 0;
   });

@@ -265,78 +265,107 @@ std::vector<std::pair<Vector2d, Vector2d>> midline(const SurfaceMesh& m, Profile
 
 Landmark at(const Vector3d& p, double conf) { return {p, std::clamp(conf, 0.0, 1.0)}; }
 
-}  // namespace
-
-Landmarks detect_landmarks(const SurfaceMesh& head) {
-  Landmarks L;
-  Profile prof;
-  const auto segs = midline(head, prof);
-
-  // 1. Pronasale: the highest point of the front profile (nose tip), parabola-refined.
-  const std::size_t ip = prof.extreme(prof.y(0), prof.y(prof.z.size() - 1), +1);
-  const Vector2d prn = prof.refine(ip, 3.0);
-  const std::size_t i_gl = prof.extreme(prn.x() + 30.0, prn.x() + 90.0, +1);  // glabella (forehead)
-  if (i_gl == prof.z.size()) throw pipeline::algorithm_failed("head", "no forehead above the nose tip");
-  const double around = std::max(prof.z[prof.extreme(prn.x() + 40, prn.x() + 45, +1) % prof.z.size()],
-                                 prof.z[prof.extreme(prn.x() - 45, prn.x() - 40, +1) % prof.z.size()]);
-  L.points["pronasale"] = at({0.0, prn.x(), prn.y()}, (prn.y() - around) / 15.0);
-
-  // 2. Sellion: deepest point of the profile between the nose tip and the glabella.
-  const std::size_t is = prof.extreme(prn.x() + 10.0, prof.y(i_gl), -1);
-  const Vector2d sel = prof.refine(is, 8.0);
-  L.points["sellion"] = at({0.0, sel.x(), sel.y()}, (prof.z[i_gl] - sel.y()) / 3.0);
-
-  // 4. Menton: lowest point of the chin, taken as the support point of the midline section in
-  //    the direction 30° forward of straight down, among section points of the chin region
-  //    (40–130 mm below the nose tip, at most 60 mm behind it; the neck lies further back).
-  //    The submental surface faces ~10–20° forward of down, so the support stays on the chin.
+/// Menton: lowest point of the chin, taken as the support point of the midline section in the
+/// direction 30° forward of straight down, among section points of the chin region (40–130 mm
+/// below the nose tip `prn`, at most 60 mm behind it; the neck lies further back), every length
+/// times `k`. The submental surface faces ~10–20° forward of down, so the support stays on the
+/// chin.
+Vector2d find_menton(const std::vector<std::pair<Vector2d, Vector2d>>& segs, const Vector2d& prn, double k) {
   const Vector2d dmen(-std::cos(M_PI / 6), std::sin(M_PI / 6));
   Vector2d men_sum(0, 0);
   double wsum = 0.0, smax = -inf;
-  std::vector<std::pair<Vector2d, double>> chin;  // section sampled every ≤ 0.5 mm, with length
+  std::vector<std::pair<Vector2d, double>> chin;  // section sampled every ≤ 0.5k mm, with length
   for (const auto& [p, q] : segs) {
-    const int n = std::max(1, int(std::ceil((q - p).norm() / 0.5)));
-    for (int k = 0; k < n; ++k) {
-      const Vector2d s = p + (q - p) * ((k + 0.5) / n);
-      if (s.x() < prn.x() - 130 || s.x() > prn.x() - 40 || s.y() < prn.y() - 60) continue;
+    const int n = std::max(1, int(std::ceil((q - p).norm() / (0.5 * k))));
+    for (int i = 0; i < n; ++i) {
+      const Vector2d s = p + (q - p) * ((i + 0.5) / n);
+      if (s.x() < prn.x() - 130 * k || s.x() > prn.x() - 40 * k || s.y() < prn.y() - 60 * k) continue;
       chin.push_back({s, (q - p).norm() / n});
       smax = std::max(smax, s.dot(dmen));
     }
   }
   if (chin.empty()) throw pipeline::algorithm_failed("head", "no chin below the nose tip");
   for (const auto& [s, len] : chin) {
-    const double w = len * std::exp((s.dot(dmen) - smax) / 0.5);
+    const double w = len * std::exp((s.dot(dmen) - smax) / (0.5 * k));
     men_sum += w * s, wsum += w;
   }
-  const Vector2d men = men_sum / wsum;
+  return men_sum / wsum;
+}
+
+}  // namespace
+
+double landmark_window_scale_of_span(double span_mm) {
+  const double k = span_mm < min_tuned_nose_chin_mm   ? span_mm / min_tuned_nose_chin_mm
+                   : span_mm > max_tuned_nose_chin_mm ? span_mm / max_tuned_nose_chin_mm
+                                                      : 1.0;
+  return std::clamp(k, 0.7, 1.4);
+}
+
+double landmark_window_scale(const SurfaceMesh& head) {
+  Profile prof;
+  const auto segs = midline(head, prof);
+  const Vector2d prn = prof.refine(prof.extreme(prof.y(0), prof.y(prof.z.size() - 1), +1), 3.0);
+  // Twice: the chin window of the first pass is the unscaled one; the second's is already
+  // near the head's own scale, so the scale is (nearly) a fixed point.
+  double k = 1.0;
+  for (int pass = 0; pass < 2; ++pass) k = landmark_window_scale_of_span((prn - find_menton(segs, prn, k)).norm());
+  return k;
+}
+
+Landmarks detect_landmarks(const SurfaceMesh& head) {
+  Landmarks L;
+  L.window_scale = landmark_window_scale(head);
+  const double k = L.window_scale;  // every length below is times k
+  Profile prof;
+  const auto segs = midline(head, prof);
+
+  // 1. Pronasale: the highest point of the front profile (nose tip), parabola-refined.
+  const std::size_t ip = prof.extreme(prof.y(0), prof.y(prof.z.size() - 1), +1);
+  const Vector2d prn = prof.refine(ip, 3.0 * k);
+  const std::size_t i_gl = prof.extreme(prn.x() + 30.0 * k, prn.x() + 90.0 * k, +1);  // glabella (forehead)
+  if (i_gl == prof.z.size()) throw pipeline::algorithm_failed("head", "no forehead above the nose tip");
+  const double around = std::max(prof.z[prof.extreme(prn.x() + 40 * k, prn.x() + 45 * k, +1) % prof.z.size()],
+                                 prof.z[prof.extreme(prn.x() - 45 * k, prn.x() - 40 * k, +1) % prof.z.size()]);
+  L.points["pronasale"] = at({0.0, prn.x(), prn.y()}, (prn.y() - around) / (15.0 * k));
+
+  // 2. Sellion: deepest point of the profile between the nose tip and the glabella.
+  const std::size_t is = prof.extreme(prn.x() + 10.0 * k, prof.y(i_gl), -1);
+  const Vector2d sel = prof.refine(is, 8.0 * k);
+  L.points["sellion"] = at({0.0, sel.x(), sel.y()}, (prof.z[i_gl] - sel.y()) / (3.0 * k));
+
+  // 4. Menton (find_menton).
+  const Vector2d men = find_menton(segs, prn, k);
   L.points["menton"] = at({0.0, men.x(), men.y()}, 0.8);
 
-  // 5. Each side (s = +1 left, −1 right), on ray-grid samples of the surface (0.5 mm grid).
+  // 5. Each side (s = +1 left, −1 right), on ray-grid samples of the surface (0.5k mm grid).
+  // Windows are soft (ramps 4k mm wide unless said).
+  const auto above = [k](double value, double edge, double ramp_mm = 4.0) { return soft_above(value, edge, ramp_mm * k); };
+  const auto below = [k](double value, double edge, double ramp_mm = 4.0) { return soft_below(value, edge, ramp_mm * k); };
   Tree tree(faces(head).first, faces(head).second, head);
   tree.accelerate_distance_queries();
   const double outward = outward_sign(head);
   double x_reach = 0.0, y_low = inf;  // how far the head reaches sideways and down [mm]
   for (auto v : head.vertices())
     x_reach = std::max(x_reach, std::abs(head.point(v).x())), y_low = std::min(y_low, head.point(v).y());
-  constexpr double step_mm = 0.5;
+  const double step_mm = 0.5 * k;
   const auto cells = [&](double lo, double hi) { return int(std::ceil((hi - lo) / step_mm)) + 1; };
   const Vector3d ex(1, 0, 0), ey(0, 1, 0), ez(0, 0, 1);
   for (int s : {+1, -1}) {
     const std::string side = s > 0 ? "_left" : "_right";
     // The side of the head seen from that side: rays toward the midline on a (y, z) grid
     // covering the ear and cheek windows below (with their ramps).
-    const double y0 = prn.x() - 45.0, y1 = sel.x() + 30.0, z0 = prn.y() - 195.0, z1 = prn.y() - 35.0;
-    const auto lateral = cast_ray_grid(head, outward, Vector3d(s * (x_reach + 10.0), y0, z0), ey, ez, step_mm,
+    const double y0 = prn.x() - 45.0 * k, y1 = sel.x() + 30.0 * k, z0 = prn.y() - 195.0 * k, z1 = prn.y() - 35.0 * k;
+    const auto lateral = cast_ray_grid(head, outward, Vector3d(s * (x_reach + 10.0 * k), y0, z0), ey, ez, step_mm,
                                        cells(y0, y1), cells(z0, z1), Vector3d(-s, 0, 0));
     // Tragion: the ear sticks out of the side of the head 80–190 mm behind the nose tip; its
     // most lateral part there (soft-max x) gives xe.
     const auto ear_window = [&](const Sample& q) {
       const Vector3d& c = q.p;
-      return soft_above(s * c.x(), 20) * soft_above(c.y(), prn.x() - 40) * soft_below(c.y(), sel.x() + 25) *
-             soft_below(c.z(), prn.y() - 80) * soft_above(c.z(), prn.y() - 190);
+      return above(s * c.x(), 20 * k) * above(c.y(), prn.x() - 40 * k) * below(c.y(), sel.x() + 25 * k) *
+             below(c.z(), prn.y() - 80 * k) * above(c.z(), prn.y() - 190 * k);
     };
     Vector3d ear_out;
-    if (!soft_argmax(lateral, ear_window, [&](const Sample& q) { return s * q.p.x(); }, 1.0, ear_out))
+    if (!soft_argmax(lateral, ear_window, [&](const Sample& q) { return s * q.p.x(); }, 1.0 * k, ear_out))
       throw pipeline::algorithm_failed("head", "no ear region on side " + side.substr(1));
     const double xe = s * ear_out.x();
     // Ear = the side within 10 mm of xe AND joined to the ear's most lateral part: membership
@@ -347,7 +376,7 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
     const int nrow = cells(y0, y1), ncol = cells(z0, z1);
     std::vector<double> stands_out(std::size_t(nrow) * std::size_t(ncol), 0.0);  // 0 where no hit
     for (const Sample& q : lateral)
-      stands_out[std::size_t(q.row) * ncol + q.col] = ear_window(q) * soft_above(s * q.p.x(), xe - 10.0);
+      stands_out[std::size_t(q.row) * ncol + q.col] = ear_window(q) * above(s * q.p.x(), xe - 10.0 * k);
     const int core_row = std::clamp(int(std::lround((ear_out.y() - y0) / step_mm)), 0, nrow - 1);
     const int core_col = std::clamp(int(std::lround((ear_out.z() - z0) / step_mm)), 0, ncol - 1);
     const auto joined = joined_membership(stands_out, nrow, ncol, core_row, core_col);
@@ -360,17 +389,17 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
     // less than 10 mm); tragion is at the front end of its upper arm, where the helix meets the
     // face: the front-most point (soft-max z) of the ear above its mean height.
     Vector3d tr, ear_low;
-    soft_argmax(lateral, [&](const Sample& q) { return ear(q) * soft_above(q.p.y(), ym, 8.0); },
-                [&](const Sample& q) { return q.p.z(); }, 1.5, tr);
-    soft_argmax(lateral, ear, [&](const Sample& q) { return -q.p.y(); }, 1.0, ear_low);  // lobe bottom
+    soft_argmax(lateral, [&](const Sample& q) { return ear(q) * above(q.p.y(), ym, 8.0); },
+                [&](const Sample& q) { return q.p.z(); }, 1.5 * k, tr);
+    soft_argmax(lateral, ear, [&](const Sample& q) { return -q.p.y(); }, 1.0 * k, ear_low);  // lobe bottom
     // Zygion: most lateral point of the face in front of the ear, at cheekbone height
     // (0–40 mm below the sellion), behind the eyes (≥ 40 mm behind the nose tip).
     Vector3d zy;
     if (!soft_argmax(lateral, [&](const Sample& q) {
           const Vector3d& c = q.p;
-          return soft_above(s * c.x(), 20) * soft_below(c.y(), sel.x()) * soft_above(c.y(), sel.x() - 40) *
-                 soft_above(c.z(), tr.z() + 15) * soft_below(c.z(), prn.y() - 40);
-        }, [&](const Sample& q) { return s * q.p.x(); }, 1.0, zy))
+          return above(s * c.x(), 20 * k) * below(c.y(), sel.x()) * above(c.y(), sel.x() - 40 * k) *
+                 above(c.z(), tr.z() + 15 * k) * below(c.z(), prn.y() - 40 * k);
+        }, [&](const Sample& q) { return s * q.p.x(); }, 1.0 * k, zy))
       throw pipeline::algorithm_failed("head", "no cheek region on side " + side.substr(1));
     // Gonion: jaw angle = the up-and-back corner of the down-facing underside of the jaw, off
     // the midline, in front of the ear, and below and medial of the ear lobe: 15 mm or more
@@ -380,24 +409,24 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
     // outside the window). "Down-facing" is a soft membership (0 at n_y = −0.3, 1 at −0.7).
     // On the NIOSH heads the corner runs up to the height cap, so gonion's height is set by
     // the (soft) cap there rather than by a local extreme of the jaw.
-    const double jaw_top_y = std::min(prn.x() - 15.0, ear_low.y() - 5.0);
-    const double gx0 = 23.0, gx1 = x_reach + 2.0, gz0 = tr.z() - 9.0, gz1 = men.y() + 2.0;
-    const double gy0 = std::min(y_low, men.x() - 25.0) - 10.0;
+    const double jaw_top_y = std::min(prn.x() - 15.0 * k, ear_low.y() - 5.0 * k);
+    const double gx0 = 23.0 * k, gx1 = x_reach + 2.0 * k, gz0 = tr.z() - 9.0 * k, gz1 = men.y() + 2.0 * k;
+    const double gy0 = std::min(y_low, men.x() - 25.0 * k) - 10.0 * k;
     const auto under = cast_ray_grid(head, outward, Vector3d(s * gx0, gy0, gz0), s * ex, ez, step_mm,
                                      cells(gx0, gx1), cells(gz0, gz1), ey);
     Vector3d go;
     double jaw_mm2 = 0.0;
     if (!soft_argmax(under, [&](const Sample& q) {
           const Vector3d& c = q.p;
-          return smoothstep01((-q.n.y() - 0.3) / 0.4) * soft_above(s * c.x(), 25) * soft_below(s * c.x(), xe - 15.0) *
-                 soft_above(c.y(), men.x() - 20) * soft_below(c.y(), jaw_top_y) * soft_above(c.z(), tr.z() - 5) *
-                 soft_below(c.z(), men.y());
-        }, [&](const Sample& q) { return (q.p.y() - q.p.z()) / std::sqrt(2.0); }, 3.0, go, &jaw_mm2))
+          return smoothstep01((-q.n.y() - 0.3) / 0.4) * above(s * c.x(), 25 * k) * below(s * c.x(), xe - 15.0 * k) *
+                 above(c.y(), men.x() - 20 * k) * below(c.y(), jaw_top_y) * above(c.z(), tr.z() - 5 * k) *
+                 below(c.z(), men.y());
+        }, [&](const Sample& q) { return (q.p.y() - q.p.z()) / std::sqrt(2.0); }, 3.0 * k, go, &jaw_mm2))
       throw pipeline::algorithm_failed("head", "no jaw underside on side " + side.substr(1));
     const double ear_prominence = xe - s * zy.x();  // how far the ear sticks out [mm]
-    L.points["tragion" + side] = at(tr, 0.3 + ear_prominence / 20.0);
+    L.points["tragion" + side] = at(tr, 0.3 + ear_prominence / (20.0 * k));
     L.points["zygion" + side] = at(zy, 0.8);
-    L.points["gonion" + side] = at(go, jaw_mm2 >= 100.0 ? 0.6 : 0.3);
+    L.points["gonion" + side] = at(go, jaw_mm2 >= 100.0 * k * k ? 0.6 : 0.3);
   }
 
   // 6. Lateral points onto the surface; confidence drops with left/right mismatch.
@@ -407,8 +436,8 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
       auto& r = L.points[name.substr(0, name.size() - 5) + "_right"];
       r.position = E(tree.closest_point(pipeline::Point(r.position.x(), r.position.y(), r.position.z())));
       const Vector3d mirror(-r.position.x(), r.position.y(), r.position.z());
-      const double k = std::exp(-(p.position - mirror).norm() / 10.0);
-      p.confidence *= k, r.confidence *= k;
+      const double match = std::exp(-(p.position - mirror).norm() / (10.0 * k));
+      p.confidence *= match, r.confidence *= match;
     }
   }
   return L;

@@ -133,6 +133,42 @@ TEST(detect_landmarks, every_landmark_stable_under_remeshing) {
 }
 
 // A sphere has no nasal root: its sellion is a guess, and said to be; the NIOSH heads have none.
+// A head smaller or larger than those detection was set on: NIOSH medium scaled about its frame's
+// origin. Detection's lengths scale with the head's nose-to-chin span outside the tuned 80-95 mm,
+// so the landmarks are the unscaled head's scaled. With fixed windows (before 2026-12-07) the
+// head at 0.8 (a child's, face length 93 mm) got its tragia 25 mm off at confidence 0.93, and at
+// 1.2 its zygia 45 mm off, without a warning (sweep O). Measured now: at 0.8 (scale 0.84) within
+// 1.7 mm; at 1.2 the scale is only 1.06 (the span over the range's end, 95 mm), the sellion
+// comes out 5.8 mm low (4.4 mm at 1.1, where nothing scales: the glabella's window starts on the
+// nose bridge) and the points placed from it 2-3.5 mm off.
+TEST(detect_landmarks, a_head_scaled_by_08_or_12_gets_its_landmarks_scaled) {
+  const auto head = aligned_head("NIOSH_medium_20k.stl");
+  const auto unscaled = scan2cad::detect_landmarks(head);
+  EXPECT_EQ(unscaled.window_scale, 1.0);
+  for (const double c : {0.8, 1.2}) {
+    auto scaled_head = head;
+    for (auto v : scaled_head.vertices()) {
+      const auto& p = scaled_head.point(v);
+      scaled_head.point(v) = pipeline::Point(c * p.x(), c * p.y(), c * p.z());
+    }
+    const auto scaled = scan2cad::detect_landmarks(scaled_head);
+    std::printf("scaled by %.1f: window scale %.3f\n", c, scaled.window_scale);
+    EXPECT_NEAR(scaled.window_scale, c < 1 ? c * 84.5 / 80 : c * 84.5 / 95, 0.01) << c;
+    for (const auto& [name, p] : unscaled.points) {
+      const double d = (scaled.points.at(name).position - c * p.position).norm();
+      std::printf("  %s: %.2f mm from the unscaled one's, scaled (confidence %.2f)\n", name.c_str(), d,
+                  scaled.points.at(name).confidence);
+      EXPECT_LE(d, c < 1 ? 2.0 : name == "sellion" ? 7.0 : 4.0) << c << " " << name;
+      EXPECT_GE(scaled.points.at(name).confidence, 0.5) << c << " " << name;
+    }
+  }
+  EXPECT_EQ(scan2cad::landmark_window_scale_of_span(70), 70.0 / 80);
+  EXPECT_EQ(scan2cad::landmark_window_scale_of_span(87), 1.0);
+  EXPECT_EQ(scan2cad::landmark_window_scale_of_span(114), 114.0 / 95);
+  EXPECT_EQ(scan2cad::landmark_window_scale_of_span(1000), 1.4);
+  EXPECT_EQ(scan2cad::landmark_window_scale_of_span(10), 0.7);
+}
+
 TEST(guessed_landmarks, the_sellion_of_a_sphere_but_nothing_on_the_niosh_heads) {
   pipeline::SurfaceMesh sphere;
   const auto soup = test_meshes::sphere_soup(80.0, 60);
