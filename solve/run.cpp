@@ -1,11 +1,17 @@
 #include "solve/run.h"
 
+#include <fcntl.h>
 #include <omp.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -66,6 +72,43 @@ std::string bytes_text(double bytes) {
 // run. The need is estimated from the starting step (it can shrink as elements deform) with every
 // value at its longest and the frames counted twice (they are kept in a temporary file and
 // copied into results.msh), plus the mesh and the state (~100 bytes per node and per element).
+// One run per output folder, for the run's life: two runs into one --out-dir shared the frames
+// file and each removed the other's outputs (a finished run's results.msh deleted by the other,
+// which then failed with a file system error; sweep P). The second run is refused, not queued: it
+// would overwrite the first's results anyway. The lock file goes with the run, so a folder ends
+// as the run leaves it; a path that no longer names the locked file (removed by the run that held
+// it) is locked again.
+class OutDirLock {
+ public:
+  explicit OutDirLock(const std::filesystem::path& dir) : path_((dir / ".solve.lock").string()) {
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+      if (fd_ < 0) throw pipeline::io_failed(path_, std::string("cannot create the run's lock file: ") + std::strerror(errno));
+      if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+        ::close(fd_);
+        throw pipeline::bad_input(dir.string(), "another solve is writing its outputs in this folder now: give this run "
+                                                "another --out-dir, or wait for that one to end");
+      }
+      struct stat held {}, named {};
+      if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 && held.st_ino == named.st_ino &&
+          held.st_dev == named.st_dev)
+        return;
+      ::close(fd_);
+    }
+    throw pipeline::io_failed(path_, "the run's lock file keeps being removed");
+  }
+  ~OutDirLock() {
+    ::unlink(path_.c_str());
+    ::close(fd_);
+  }
+  OutDirLock(const OutDirLock&) = delete;
+  OutDirLock& operator=(const OutDirLock&) = delete;
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
 // Checked on the file system out_dir will be on, before it is made.
 void require_room_for_outputs(const Model& m, std::size_t elements, const std::string& out_dir, double frames,
                               double rows, bool write_results) {
@@ -244,6 +287,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   // the state this run started from is kept: it is the user's input); a sound run removes the
   // diverged_* files of an earlier failure.
   const fs::path dir(opt.out_dir);
+  const OutDirLock lock(dir);
   const std::string frames_path = (dir / ".results.frames.tmp").string();
   std::ofstream frames;
   auto remove_outputs = [&] {

@@ -15,6 +15,7 @@
 #include "solve/make_block.h"
 #include "solve/write_results.h"
 #include "../file_text.h"
+#include "../last_line.h"
 #include "../run_command.h"
 #include "../scratch_dir.h"
 
@@ -101,6 +102,36 @@ TEST(solve_cli, a_run_stopped_by_a_signal_leaves_no_outputs_of_its_own_or_of_an_
     for (const auto& e : fs::directory_iterator(c.dir + "/stopped")) left.push_back(e.path().filename().string());
     EXPECT_TRUE(left.empty()) << left.front();
   }
+}
+
+// Two runs into one --out-dir shared the frames file and removed each other's outputs: a finished
+// run's results.msh was deleted by the other, which then failed with a file system error (sweep
+// P). Now the second is refused (exit 2, one line) while the first runs; the first's lock goes
+// with it (stopped here by SIGINT, it leaves the folder empty), and the folder is free again.
+TEST(solve_cli, a_second_run_into_a_busy_out_dir_is_refused) {
+  CliCase c;
+  c.write("short.json", deck(1.0));
+  std::string long_deck = deck(1e5);
+  const std::string every_quarter = "\"output_interval\": 0.25";
+  long_deck.replace(long_deck.find(every_quarter), every_quarter.size(), "\"output_interval\": 1000");
+  c.write("long.json", long_deck);
+  ASSERT_EQ(run_command("(timeout --preserve-status -s INT 6 " + std::string(BIN_DIR) + "/solve --model " + c.dir +
+                        "/block.msh --deck " + c.dir + "/long.json --out-dir " + c.dir + "/busy > /dev/null 2> " + c.dir +
+                        "/first_err.txt; echo $? > " + c.dir + "/first_rc.txt) > /dev/null 2>&1 &"),
+            0);
+  for (int k = 0; k < 400 && !fs::exists(c.dir + "/busy/.solve.lock"); ++k) run_command("sleep 0.05");
+  ASSERT_TRUE(fs::exists(c.dir + "/busy/.solve.lock"));
+  EXPECT_EQ(c.solve("short.json", "busy"), 2) << c.read("err.txt");
+  EXPECT_EQ(count(c.read("err.txt"), "another solve"), 1) << c.read("err.txt");
+  EXPECT_EQ(last_line(c.read("err.txt")).rfind("solve: " + c.dir + "/busy: another solve is writing its outputs in this folder now", 0), 0u)
+      << c.read("err.txt");
+  for (int k = 0; k < 1200 && !fs::exists(c.dir + "/first_rc.txt"); ++k) run_command("sleep 0.05");
+  ASSERT_TRUE(fs::exists(c.dir + "/first_rc.txt"));
+  EXPECT_EQ(std::atoi(c.read("first_rc.txt").c_str()), 130) << c.read("first_err.txt");
+  EXPECT_TRUE(fs::is_empty(c.dir + "/busy")) << fs::directory_iterator(c.dir + "/busy")->path();
+  ASSERT_EQ(c.solve("short.json", "busy"), 0) << c.read("err.txt");
+  EXPECT_TRUE(fs::exists(c.dir + "/busy/results.msh"));
+  EXPECT_FALSE(fs::exists(c.dir + "/busy/.solve.lock"));
 }
 
 // gmsh does not see its write errors: under a file size limit (as on a full disk) results.msh
