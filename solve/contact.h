@@ -19,10 +19,12 @@ struct ContactSpec {
   std::string name;
   std::vector<int> slave_nodes;                ///< slave node ids (respirator inner surface, strap nodes)
   std::vector<std::array<int, 3>> master_tris; ///< master facets (head skin); outward normal by the right-hand rule
-  double penalty_scale = 0.1;                  ///< s in k = s·m/Δt² (the paper: 0.1), range (0, 1]
+  double penalty_scale = 0.1;                  ///< s in k = s·m*/Δt², m* the slave and master masses' reduced mass (the paper: 0.1, with the master's mass), range (0, 1]
   double damping_ratio = 0.0;                  ///< ξ of the viscous contact damping 2·ξ·m*·ω·v, ω = √(k/m*); range [0, 1]
-  double friction = 0.0;                       ///< Coulomb coefficient μ ≥ 0 (0: frictionless)
+  double friction = 0.0;                       ///< Coulomb coefficient μ ≥ 0 (0: frictionless; a deck allows at most 2)
   bool two_sided = false;                      ///< thin shells: slaves are pushed out on either side
+  // A master node of zero mass (a kinematic one) counts as infinitely heavy: such a master is a
+  // rigid wall (contact.cpp).
   /// Slave surface facets (node ids, every corner a slave node; the Solver fills them when the
   /// slave group is a surface). When given, contact is integrated over the slave surface
   /// (segment-to-surface): each facet is cut into segment_subdivision² sub-triangles whose
@@ -65,7 +67,8 @@ class ContactPair {
   const std::vector<double>& shear() const { return shear_; }
   /// Resultant contact force on the slave side after the last add_forces [N].
   std::array<double, 3> resultant_force() const { return resultant_; }
-  /// Deepest penetration of a slave node after the last add_forces [mm] (0 if none).
+  /// Deepest penetration of a slave point (a node, or a facet's contact point) after the last
+  /// add_forces [mm] (0 if none).
   double max_penetration() const { return max_penetration_; }
   /// Where that deepest slave point was, in the positions given to the last add_forces [mm]
   /// (a run that stops on penetration names the place).

@@ -8,7 +8,7 @@
 namespace solve {
 
 /// Reads the mesh and applies the deck.
-/// @param msh_path   gmsh .msh (4.1 or any version gmsh reads) with named physical groups
+/// @param msh_path   gmsh .msh (2.x or 4.x, ASCII or binary; MSH 1 refused: pipeline/read_msh.h) with named physical groups
 /// @param deck_path  JSON deck (format: solve/README.md)
 /// @return the checked model (check_model passed)
 /// @throws pipeline::Error(bad_input) with one line naming the file and the problem (missing,

@@ -3,9 +3,10 @@
 /// solids and flat plates of membranes, optionally with jittered interior nodes (irregular
 /// meshes), plus a merge of two models into one (two bodies for contact tests).
 ///
-/// Named groups created (node groups; for solids also outward surface triangles of the same name):
-///   "xmin" "xmax" "ymin" "ymax" "zmin" "zmax" (faces of the block / edges of the plate),
-///   "all" (every node), and the part name (default "block" / "plate").
+/// Named groups created: node groups "xmin" "xmax" "ymin" "ymax" "zmin" "zmax" (faces of the
+/// block / edges of the plate), "all" (every node) and the part name (default "block" /
+/// "plate"); for solids the six faces also get outward surface triangles of their name (the
+/// part and "all" get none, unlike a part read from a .msh).
 /// The returned model has one material (`mat`) and one part; control.end_time = 1 ms; everything
 /// else at its default, ready for the caller to add constraints, loads and contact.
 #include <array>

@@ -39,9 +39,8 @@ double Curve::at(double time) const {
   if (time <= t.front()) return value.front();
   if (time >= t.back()) return value.back();
   auto it = std::upper_bound(t.begin(), t.end(), time);
-  std::size_t i = std::size_t(it - t.begin());  // t[i-1] <= time < t[i]
+  std::size_t i = std::size_t(it - t.begin());  // t[i-1] <= time < t[i], so t1 > t0 (a step is a jump past it)
   double t0 = t[i - 1], t1 = t[i];
-  if (t1 <= t0) return value[i];
   double w = (time - t0) / (t1 - t0);
   return (1 - w) * value[i - 1] + w * value[i];
 }
@@ -57,12 +56,6 @@ const std::vector<std::array<int, 3>>& Model::surface(const std::string& g) cons
   if (it == surfaces.end() || it->second.empty())
     throw pipeline::bad_input(name, "group '" + g + "' has no surface facets (2D elements or 3D boundary)");
   return it->second;
-}
-
-int Model::material_index(const std::string& m) const {
-  for (std::size_t i = 0; i < materials.size(); ++i)
-    if (materials[i].name == m) return int(i);
-  throw pipeline::bad_input(name, "no material named '" + m + "'");
 }
 
 void check_model(const Model& m) {

@@ -114,7 +114,6 @@ struct Model {
   const std::vector<int>& group(const std::string& name) const;
   /// Triangles of a surface group; throws bad_input if absent or empty.
   const std::vector<std::array<int, 3>>& surface(const std::string& name) const;
-  int material_index(const std::string& name) const;  ///< throws bad_input if absent
 };
 
 /// Checks the model is consistent (groups exist, materials valid, node ids in range, elements of

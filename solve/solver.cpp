@@ -436,7 +436,7 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
   s.v = st.v;
   // Tied nodes share one velocity: a later stage may tie nodes the earlier one moved separately.
   if (!s.m.ties.empty()) internal::init_constraint_velocities(s.con, s.x, s.mass, s.v);
-  internal::set_rigid_velocities(s.con, s.x, st.rigid);
+  internal::set_rigid_velocities(s.con, st.rigid);
   // Contact history (friction stick forces, sides of two-sided masters, search state): carried
   // over when the state was written with the same contact pairs (a restart, or a later stage with
   // the same deck contacts), so friction keeps its stick forces. A later stage with other pairs
@@ -460,8 +460,16 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
     if (s.m.control.dt_target <= 0 && std::isfinite(d.every)) s.choose_step(d.free, d.every);
   }
   if (reset_velocity) {
+    // At rest, then the deck's initial velocities, as at t = 0 of a run without a state.
     std::fill(s.v.begin(), s.v.end(), 0.0);
-    internal::set_rigid_velocities(s.con, s.x, {});
+    internal::set_rigid_velocities(s.con, {});
+    for (const auto& iv : s.m.initial_velocities)
+      for (int id : s.m.group(iv.group))
+        for (int i = 0; i < 3; ++i) s.v[3 * id + i] = iv.v[i];
+    if (!s.m.initial_velocities.empty()) internal::init_constraint_velocities(s.con, s.x, s.mass, s.v);
+    // The kinetic energy changed by fiat, outside the balance: it restarts from the next step
+    // (kept, the kinetic energy removed showed as a balance error and could stop the run).
+    s.e_initial_set = false;
   }
 }
 

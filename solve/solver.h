@@ -4,9 +4,10 @@
 ///   m (v_{n+½} − v_{n−½})/Δt = f_int(x_n) + f_ext(t_n) + f_contact(x_n, v_{n−½}) − α m (v_{n+½}+v_{n−½})/2
 ///   x_{n+1} = x_n + Δt v_{n+½}
 ///
-/// Constraints per step, in this order: tied node sets share one acceleration; rigid bodies move
-/// with 6 DOF (exact rotation of their nodes); fixed / prescribed dofs overwrite v_{n+½} and their
-/// reaction force is recorded. Element forces are computed per element into a private array and
+/// Constraints per step, one pass per kind of node (internal/constraints.cpp, advance): free
+/// nodes; tied node sets, which share one acceleration; rigid bodies, which move with 6 DOF
+/// (exact rotation of their nodes). In each pass the fixed / prescribed dofs of those nodes
+/// overwrite v_{n+½} and their reaction force is recorded. Element forces are computed per element into a private array and
 /// then gathered per node in a fixed order, so results do not depend on the number of threads.
 ///
 /// Usage (tests and run()):
@@ -110,8 +111,10 @@ class Solver {
   std::array<double, 3> section_force(const std::string& group) const;
 
   SolverState state() const;
-  /// Continues from a saved state (same mesh: node count checked, throws bad_input otherwise).
-  /// reset_time: time and step counter start at 0; reset_velocity: start at rest. Ties keep the
+  /// Continues from a saved state (same mesh: node count and reference positions checked to
+  /// 1e-9, throws bad_input otherwise). reset_time: time and step counter start at 0;
+  /// reset_velocity: start at rest but for the model's initial velocities, and the energy
+  /// balance starts afresh (as it does with reset_time). Ties keep the
   /// partners matched at construction (give the state's positions as start_x there); tied nodes
   /// get their mass-weighted mean velocity.
   void set_state(const SolverState& s, bool reset_time = false, bool reset_velocity = false);

@@ -263,7 +263,7 @@ std::vector<double> rigid_velocities(const Constraints& c) {
   return r;
 }
 
-void set_rigid_velocities(Constraints& c, const std::vector<double>& x, const std::vector<double>& rv) {
+void set_rigid_velocities(Constraints& c, const std::vector<double>& rv) {
   for (std::size_t k = 0; k < c.bodies.size(); ++k)
     for (int d = 0; d < 3; ++d) {
       c.bodies[k].V[d] = rv.size() == 6 * c.bodies.size() ? rv[6 * k + d] : 0.0;

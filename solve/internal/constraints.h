@@ -56,6 +56,6 @@ void advance(Constraints& c, const Model& m, const std::vector<double>& X, const
 
 /// Rigid body velocities (V, ω per body) for the restart state, and back.
 std::vector<double> rigid_velocities(const Constraints& c);
-void set_rigid_velocities(Constraints& c, const std::vector<double>& x, const std::vector<double>& rv);
+void set_rigid_velocities(Constraints& c, const std::vector<double>& rv);
 
 }  // namespace solve::internal

@@ -29,8 +29,9 @@ struct ClosestPoint {
 
 /// Closest point of triangle (a, b, c) to p, with the Voronoi region (feature) it lies in.
 /// Follows Ericson, Real-Time Collision Detection §5.1.5; a degenerate triangle is handled by
-/// the edge/vertex branches. A point exactly on an edge/vertex region boundary goes to the lower
-/// feature (face before edges before vertices), so neighbouring facets leave no gap.
+/// the edge/vertex branches. A point exactly on a region boundary goes to the feature tested first
+/// (vertices before edges before the face, in Ericson's order); the closest point is the same
+/// either way, so neighbouring facets leave no gap.
 ClosestPoint closest_point_on_triangle(const double* p, const double* a, const double* b,
                                        const double* c);
 

@@ -348,6 +348,28 @@ TEST(energy, balance_holds_through_velocity_and_load_jumps_and_a_moving_restart)
   }
 }
 
+// A later stage that starts at rest (initial_state with reset_velocity, the saved time kept) from
+// a moving state: the deck's initial velocity applies (it was dropped: the README's example
+// respirator started at rest) and the energy balance is measured from there (the kinetic energy
+// removed had stayed in it as an error, enough to stop a run as diverged).
+TEST(save_state, reset_velocity_applies_the_decks_initial_velocity_and_restarts_the_balance) {
+  solve::Model m = soft_block_fixed_below(3, 3, 4);
+  m.loads.push_back({"zmax", 0, solve::Curve::constant(0.02)});
+  solve::Solver first(m);
+  for (int k = 0; k < 40; ++k) first.step();
+  solve::Model later = soft_block_fixed_below(3, 3, 4);
+  later.initial_velocities.push_back({"zmax", {0, 0, -0.05}});
+  solve::Solver s(later);
+  s.set_state(first.state(), false, true);
+  EXPECT_EQ(s.time(), first.time());
+  std::vector<char> top(later.n_nodes(), 0);
+  for (int id : later.group("zmax")) top[id] = 1;
+  for (int id = 0; id < int(later.n_nodes()); ++id)
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(s.v()[3 * id + i], top[id] && i == 2 ? -0.05 : 0.0) << "node " << id << " dof " << i;
+  // as the velocity jump at t = 0 above
+  EXPECT_LT(worst_balance_every_step(s, 300, "reset velocity, saved time kept"), 1e-3);
+}
+
 // Stability guard: crushing a block at 100 mm/ms inverts elements within a few steps; the run
 // stops with an algorithm error, writes the diagnostic state and no results file. The directory
 // holds the outputs of an earlier sound run: they go too, so nothing there passes for results of
