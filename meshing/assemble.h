@@ -116,7 +116,8 @@ layering::FeModel assemble_model(const layering::FeModel& head, const layering::
                                  const PlaceOptions& opt, AssembleReport* report);
 
 /// Refuses straps too near the skin for the shell thickness the decks give them: `straps` lays
-/// each band's mid-surface at least its --gap-mm (1 mm) + half its --thickness-mm off the skin,
+/// each band's mid-surface at least strap_clearance_mm (1 mm, straps.h; no option) + half its
+/// --thickness-mm off the skin,
 /// and assemble's --strap-thickness-mm must be the same, since the straps' .msh holds only the
 /// mid-surface. Straps laid for 1 mm, assembled with 5 mm, began ~1 mm inside the head with exit
 /// 0. The mid-surface must be at least half the thickness off the skin.

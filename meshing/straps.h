@@ -15,12 +15,17 @@
 
 namespace meshing {
 
+/// The straps' clearance over the skin [mm] (plus half their thickness): StrapOptions's default,
+/// which the straps program keeps (it has no option for it), and the height over the skin at
+/// which assemble's stage I deck brings the strap ends to their attachments.
+inline constexpr double strap_clearance_mm = 1;
+
 struct StrapOptions {
-  double length_mm = 300;     ///< unstretched length of each strap along its centre line [mm], (50, 1000)
-  double width_mm = 6;        ///< band width [mm], (1, 30)
+  double length_mm = 300;     ///< unstretched length of each strap along its centre line [mm], [50, 1000]
+  double width_mm = 6;        ///< band width [mm], [1, 30]
   double thickness_mm = 1;    ///< shell thickness [mm]: sets the clearance below; the decks take assemble's own value
   double element_mm = 3;      ///< target element length along the strap [mm]
-  double gap_mm = 1;          ///< minimum distance of the band's mid-surface to the skin [mm] (+ half the thickness)
+  double clearance_mm = strap_clearance_mm;  ///< least distance of the band's mid-surface to the skin [mm] (+ half the thickness)
   /// Largest stretch [% of length_mm] the head's outline between the attachments may ask of a
   /// strap. The 300 mm default is stretched 46–62 % (top) and 14–43 % (bottom) on the five
   /// generated heads, and the strap material is linear elastic; a 50 mm strap (a length in cm
@@ -48,8 +53,8 @@ struct StrapReport {
 /// `gap_mm + thickness/2`, and is centred on the back of the head.
 /// @return groups strap_top, strap_bottom (quads), strap_<s>_end_<side> (2-node lines across each end),
 ///   strap_<s>_attach_<side> (one point each: the attachment point on the placed rim); side left = +x.
-/// @throws Error(bad_input) if a strap is longer than the head's outline between its attachments,
-///         or so short that the outline stretches it more than `max_stretch_percent`.
+/// @throws Error(bad_input) if a strap, centred on the back of the head, runs past an attachment
+///         (longer than twice the outline from the back to the nearer attachment), or so short that the outline stretches it more than `max_stretch_percent`.
 layering::FeModel make_straps(const layering::FeModel& head, const std::map<std::string, Eigen::Vector3d>& lm,
                               const layering::FeModel& resp, const StrapOptions& opt, StrapReport* report);
 

@@ -5,8 +5,9 @@
 /// The triangles come from scan2cad::remesh_parts (CGAL isotropic remeshing with the part cuts
 /// constrained) at the layering size, the back of the head coarser, the worst triangles then
 /// improved (scan2cad::improve_triangles: flips, angle smoothing); gmsh then holds them as
-/// discrete surfaces sharing their boundary nodes and curves (createTopology) and rates them
-/// (getElementQualities "gamma"). gmsh's own re-meshing of parametrized parts is not used: it
+/// discrete surfaces sharing their boundary nodes and curves (createTopology). The triangles are
+/// rated with gmsh's "gamma" as scan2cad::triangle_gamma computes it (gmsh 4.8's API has no
+/// getElementQualities). gmsh's own re-meshing of parametrized parts is not used: it
 /// fails on the back of the head (see scan2cad/fit.h).
 #include <string>
 #include <vector>
@@ -41,7 +42,7 @@ double default_back_size_for(double size_mm);
 struct SurfaceMeshPart {
   std::string name;
   std::size_t triangles = 0;
-  double min_gamma = 0, mean_gamma = 0;  ///< gmsh "gamma" (inscribed/circumscribed radius, 1 = equilateral)
+  double min_gamma = 0, mean_gamma = 0;  ///< gmsh's "gamma", 2·r_in/r_circ (1 = equilateral)
 };
 
 /// How surface_mesh retries when a size gives a triangle below min_gamma: each retry's sizes are

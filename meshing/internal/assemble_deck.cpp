@@ -7,6 +7,7 @@
 
 #include "meshing/assemble.h"
 #include "meshing/internal/assemble_geometry.h"
+#include "meshing/straps.h"
 #include "pipeline/error.h"
 #include "pipeline/read_json.h"
 #include "pipeline/units.h"
@@ -173,7 +174,7 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
         if (!end || !att) continue;
         Eigen::Vector3d c = Eigen::Vector3d::Zero();
         for (int v : end->conn) c += m.nodes[v] / double(end->conn.size());
-        const EndPath path = end_path(skin, c, m.nodes[att->conn[0]], 1.0 + 0.5 * strap_t);
+        const EndPath path = end_path(skin, c, m.nodes[att->conn[0]], strap_clearance_mm + 0.5 * strap_t);
         for (int k = 0; k < 3; ++k) {
           json curve = json::array();
           for (std::size_t i = 0; i < path.points.size(); ++i)
@@ -194,8 +195,17 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
     for (const char* s : {"top", "bottom"})
       for (const char* side : {"left", "right"}) {
         const std::string end = std::string("strap_") + s + "_end_" + side, att = std::string("attach_") + s + "_" + side;
-        if (m.find(end) && m.find(att))
-          ties.push_back({{"name", end + "_to_respirator"}, {"group_a", end}, {"group_b", att}, {"tolerance", 5.0}});
+        const auto* end_group = m.find(end);
+        if (!end_group || !m.find(att)) continue;
+        // Stage I brings the end line's middle onto the attachment node: its other nodes end up
+        // as far from it as they are from their middle (half the strap's width), and 2 mm more
+        // are allowed for the end's turn along the path. 5 mm at least (the 6 mm strap's 3 + 2).
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (int v : end_group->conn) c += m.nodes[v] / double(end_group->conn.size());
+        double half_mm = 0;
+        for (int v : end_group->conn) half_mm = std::max(half_mm, (m.nodes[v] - c).norm());
+        ties.push_back({{"name", end + "_to_respirator"}, {"group_a", end}, {"group_b", att},
+                        {"tolerance", std::max(5.0, half_mm + 2.0)}});
       }
     d["ties"] = ties;
     contact.push_back({{"name", "respirator_on_face"}, {"slave", "respirator_inner"}, {"master", "head_skin"},

@@ -9,7 +9,6 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
-#include <list>
 #include <map>
 
 namespace meshing::internal {
@@ -96,15 +95,6 @@ double TriangleTree::signed_distance(const Eigen::Vector3d& q, Eigen::Vector3d* 
 
 double TriangleTree::distance(const Eigen::Vector3d& q) const {
   return std::sqrt(impl_->tree.squared_distance(pt(q)));
-}
-
-double TriangleTree::farthest_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
-  std::list<Tree::Intersection_and_primitive_id<K::Ray_3>::Type> hits;
-  impl_->tree.all_intersections(K::Ray_3(pt(o), K::Vector_3(d.x(), d.y(), d.z())), std::back_inserter(hits));
-  double best = -1;
-  for (const auto& h : hits)
-    if (const K::Point_3* p = boost::get<K::Point_3>(&h.first)) best = std::max(best, (ev(*p) - o).dot(d));
-  return best;
 }
 
 }  // namespace meshing::internal

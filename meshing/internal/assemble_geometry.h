@@ -20,8 +20,6 @@ class TriangleTree {
   double signed_distance(const Eigen::Vector3d& q, Eigen::Vector3d* closest = nullptr,
                          Eigen::Vector3d* normal = nullptr) const;
   double distance(const Eigen::Vector3d& q) const;
-  /// Largest ray parameter t ≥ 0 at which origin + t·dir hits a triangle; −1 if none.
-  double farthest_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const;
 
  private:
   struct Impl;

@@ -262,6 +262,40 @@ void expect_end_paths_around_the_head(const layering::FeModel& model, const nloh
 }
 }  // namespace
 
+// Stage II ties each strap end to its attachment node where stage I left it: every node of the
+// end, moved by stage I's last prescribed displacement, must lie within the tie's tolerance of
+// the attachment. A fixed 5 mm tolerance refused a 12 mm strap's ties (its edge nodes 6 mm from
+// the attachment) after a whole stage I (sweep Q); STRAP_WIDTH_MM goes up to 30.
+TEST(assemble_model, stage_two_ties_hold_where_stage_one_leaves_the_strap_ends) {
+  auto& s = scene();
+  const auto mat = nlohmann::json::parse(pipeline::read_text(kMaterials));
+  for (const double width_mm : {6.0, 12.0}) {
+    auto opt = dome_straps();
+    opt.width_mm = width_mm;
+    const auto straps = meshing::make_straps(s.head, s.lm, s.resp, opt, nullptr);
+    const auto model = meshing::assemble_model(s.head, s.resp, straps, s.lm, dome_place(), nullptr);
+    const auto d1 = meshing::make_deck(model, mat, 1, 1.0, ""), d2 = meshing::make_deck(model, mat, 2, 1.0, "s.bin");
+    ASSERT_EQ(d2["ties"].size(), 4u);
+    for (const auto& tie : d2["ties"]) {
+      const auto* end = model.find(tie["group_a"].get<std::string>());
+      const auto* att = model.find(tie["group_b"].get<std::string>());
+      ASSERT_TRUE(end && att) << tie;
+      Eigen::Vector3d u = Eigen::Vector3d::Zero();
+      int found = 0;
+      for (const auto& p : d1["prescribed"])
+        if (p["group"] == end->name) u[long(std::string("xyz").find(p["dof"].get<std::string>()))] = p["curve"].back()[1].get<double>(), ++found;
+      ASSERT_EQ(found, 3) << end->name;
+      double farthest = 0;
+      for (int v : end->conn) farthest = std::max(farthest, (model.nodes[v] + u - model.nodes[att->conn[0]]).norm());
+      const double tolerance = tie["tolerance"];
+      std::printf("%.0f mm strap, %s: farthest end node %.2f mm from the attachment, tolerance %.2f mm\n", width_mm,
+                  end->name.c_str(), farthest, tolerance);
+      EXPECT_LT(farthest, tolerance) << end->name;
+      EXPECT_GE(tolerance, 5.0);
+    }
+  }
+}
+
 TEST(assemble_model, no_initial_penetration_and_opens_in_gmsh_and_meshio) {
   auto& s = scene();
   const auto straps = meshing::make_straps(s.head, s.lm, s.resp, dome_straps(), nullptr);
