@@ -12,6 +12,18 @@ $(foreach v,$(.VARIABLES),$(if $(filter command line,$(origin $(v))),$(if $(filt
 ifneq ($(origin BUILD),command line)
 BUILD := build
 endif
+# The build folder is removed whole by make clean and written into by every rule: a BUILD with a
+# space in it ("/home/me/My Projects/build") had the case rules run rm -rf on /home/me/My, and
+# make clean too (sweep P); the source folder or one above it would go with make clean.
+ifneq ($(words $(BUILD)),1)
+$(error BUILD='$(BUILD)': make cannot take a folder with a space in it (or none); give one without)
+endif
+ifneq ($(findstring ',$(BUILD))$(findstring ",$(BUILD))$(findstring $$,$(BUILD)),)
+$(error BUILD=$(BUILD): make cannot take a folder with a quote or a $$ in it; give one without)
+endif
+ifneq ($(filter $(patsubst %/,%,$(abspath $(BUILD)))/%,$(CURDIR)/),)
+$(error BUILD=$(BUILD): is this source folder or holds it (make clean would remove it); give a folder of its own, such as build)
+endif
 
 # A case named on the command line is checked here, before the top Makefile installs or builds
 # anything: a misspelt case (case=medium_onsize) cost the whole install and compile before

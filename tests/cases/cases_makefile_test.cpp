@@ -26,8 +26,9 @@ const char* const kStages[] = {"generate_scan", "reconstruct", "repair", "align"
                                "fit", "surface_mesh", "layers", "straps", "assemble", "solve"};
 
 // A temporary BUILD folder whose bin/ holds stand-ins: each writes every file named after
-// --out/--report/--transform/--deck1/--deck2, appends "<stage> <first output>" to log.txt, and
-// exits 3 after writing when FAIL_STAGE names it (a stage that dies after a partial write).
+// --out/--report/--transform/--deck1/--deck2, appends "<stage> <first output>" to log.txt, sleeps
+// 3 s (after touching BUILD/sleeping) when SLEEP_STAGE names it, and exits 3 after writing when
+// FAIL_STAGE names it (a stage that dies after a partial write).
 class CasesMake : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -44,6 +45,8 @@ class CasesMake : public ::testing::Test {
                           "  esac; shift\n"
                           "done\n"
                           "echo \"$(basename \"$0\") $first\" >> " << (build_ / "log.txt").string() << "\n"
+                          "if [ \"$SLEEP_STAGE\" = \"$(basename \"$0\")\" ]; then touch " << (build_ / "sleeping").string()
+                       << "; sleep 3; fi\n"
                           "[ \"$FAIL_STAGE\" = \"$(basename \"$0\")\" ] && exit 3\n"
                           "exit 0\n";
       fs::permissions(p, fs::perms::owner_all);
@@ -420,6 +423,59 @@ TEST_F(CasesMake, case_settings_reach_straps_and_assemble_and_a_change_reruns_on
   EXPECT_NE(make("case=medium_onesize STRAP_LENGTH_MM=250", &ran, "FAIL_STAGE=straps"), 0);
   for (const char* stale : {"straps.msh", "model.msh", "stage1.json", "stage2.json"})
     EXPECT_FALSE(fs::exists(c / stale)) << stale;
+}
+
+// What sweep P found make doing on a shared workstation. Two makes of one case at once (with and
+// without a user's scan, or with two settings) both said done over outputs of the other's making:
+// a second make now waits for the first. A case folder where inputs.txt cannot be written (full,
+// read-only) printed the shell's error and said done with a setting never recorded: now make
+// stops before any stage. A BUILD with a space in it had make rm -rf the folder before the space.
+TEST_F(CasesMake, one_make_at_a_time_a_failed_set_up_stops_and_build_has_no_space) {
+  std::vector<std::string> ran;
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  const fs::path c = build_ / "cases/medium_onesize";
+  const std::string first = (build_ / "first.out").string();
+  ASSERT_EQ(run_command("(SLEEP_STAGE=straps make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases BUILD=" +
+                        build_.string() + " case=medium_onesize STRAP_LENGTH_MM=280 > " + first + " 2>&1; echo $? > " +
+                        first + ".rc) > /dev/null 2>&1 &"),
+            0);
+  ASSERT_FALSE(fs::exists(first + ".rc"));  // running in the background
+  for (int k = 0; k < 600 && !fs::exists(build_ / "sleeping"); ++k) run_command("sleep 0.05");
+  ASSERT_TRUE(fs::exists(build_ / "sleeping")) << file_text(first);
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  EXPECT_NE(file_text(build_ / "make.out").find("case medium_onesize: waiting for the make running cases in "),
+            std::string::npos)
+      << file_text(build_ / "make.out");
+  ASSERT_TRUE(fs::exists(first + ".rc"));  // the second ran after the first had ended
+  EXPECT_EQ(file_text(first + ".rc"), "0\n") << file_text(first);
+  EXPECT_EQ(count(ran, "straps", "/cases/medium_onesize/"), 1) << log_text(ran);  // its own settings again
+  EXPECT_EQ(file_text(c / "straps.msh").find("--length-mm"), std::string::npos);
+  // inputs.txt cannot be written (as on a full disk): nothing runs, one line says where
+  fs::create_directories(c / "inputs.txt.new");
+  const std::string model_before = file_text(c / "model.msh");
+  EXPECT_NE(make("case=medium_onesize GAP_MM=2.5", &ran), 0);
+  EXPECT_TRUE(ran.empty()) << log_text(ran);
+  EXPECT_NE(file_text(build_ / "make.out").find("case medium_onesize: cannot set up " + (c / "inputs.txt").string()),
+            std::string::npos)
+      << file_text(build_ / "make.out");
+  EXPECT_EQ(file_text(c / "model.msh"), model_before);
+  fs::remove_all(c / "inputs.txt.new");
+  ASSERT_EQ(make("case=medium_onesize GAP_MM=2.5", &ran), 0);
+  EXPECT_EQ(ran.size(), 2u) << log_text(ran);
+  // BUILD with a space, and the source folder as BUILD: refused, nothing removed
+  fs::create_directories(build_ / "victim");
+  std::ofstream(build_ / "victim/keep.txt") << "keep\n";
+  for (const std::string& bad : {"'BUILD=" + (build_ / "victim").string() + " x'", std::string("BUILD=.")}) {
+    EXPECT_NE(run_command("make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases case=medium_onesize " + bad +
+                          " > " + (build_ / "make.out").string() + " 2>&1"),
+              0)
+        << bad;
+    EXPECT_NE(file_text(build_ / "make.out").find(bad == "BUILD=." ? "is this source folder or holds it" : "make cannot take a folder with a space"),
+              std::string::npos)
+        << file_text(build_ / "make.out");
+    EXPECT_TRUE(fs::exists(build_ / "victim/keep.txt")) << bad;
+    EXPECT_TRUE(fs::exists(fs::path(SOURCE_DIR) / "Makefile.cases"));
+  }
 }
 
 }  // namespace
