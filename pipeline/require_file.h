@@ -3,8 +3,8 @@
 ///
 /// Input: a path. Returns when it names an existing, non-empty file; otherwise throws
 /// pipeline::Error(bad_input) with one line naming it: "no such file", "is a directory, expected
-/// a file", "not a regular file (a device, pipe or socket)" or "file is empty". A link to a
-/// file is the file.
+/// a file", "not a regular file (a device, pipe or socket)", "file is empty" or "cannot be read:
+/// Permission denied" (the system's reason). A link to a file is the file.
 #include <string>
 
 namespace pipeline {

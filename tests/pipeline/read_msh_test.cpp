@@ -4,6 +4,11 @@
 
 #include <omp.h>
 
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -11,6 +16,7 @@
 #include "../scratch_dir.h"
 #include "pipeline/error.h"
 #include "pipeline/read_msh.h"
+#include "pipeline/require_file.h"
 
 namespace {
 
@@ -226,4 +232,43 @@ TEST(read_msh, a_group_named_twice_or_a_name_given_twice_is_refused) {
   const std::string dims = with_names("two_dims.msh", "$PhysicalNames\n2\n2 1 \"skin\"\n1 2 \"skin\"\n$EndPhysicalNames\n");
   EXPECT_EQ(msh_error_of(dims), "no error");
 
+}
+
+// A file the user may not read gets the system's reason from require_file, which every reader
+// calls first: each reader had reported its own first failure instead ("not a PLY file (no 'ply'
+// magic)", "not a gmsh mesh: its first line is ''", "cannot open file"; sweep P). Root reads any
+// file, so under root the check runs in a child as nobody (uid 65534), on a file in a folder
+// anyone may enter.
+TEST(require_file, a_file_that_cannot_be_read_gives_the_systems_reason) {
+  char dir_template[] = "/tmp/require_file_XXXXXX";
+  ASSERT_NE(mkdtemp(dir_template), nullptr);
+  const std::string dir = dir_template, locked = dir + "/locked.msh";
+  ASSERT_EQ(chmod(dir.c_str(), 0755), 0);
+  { std::FILE* f = std::fopen(locked.c_str(), "w"); ASSERT_NE(f, nullptr); std::fputs("$MeshFormat\n", f); std::fclose(f); }
+  ASSERT_EQ(chmod(locked.c_str(), 0), 0);
+  const auto error_of = [&] { return bad_input_message([&] { pipeline::require_file(locked); }); };
+  std::string error;
+  if (geteuid() != 0) {
+    error = error_of();
+  } else {
+    int out[2];
+    ASSERT_EQ(pipe(out), 0);
+    const pid_t child = fork();
+    if (child == 0) {
+      close(out[0]);
+      if (setgid(65534) != 0 || setuid(65534) != 0) _exit(3);
+      const std::string e = error_of();
+      if (write(out[1], e.data(), e.size()) < 0) _exit(4);
+      _exit(0);
+    }
+    close(out[1]);
+    char buf[512];
+    for (ssize_t n; (n = read(out[0], buf, sizeof buf)) > 0;) error.append(buf, std::size_t(n));
+    close(out[0]);
+    int status = 0;
+    waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  }
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(error, locked + ": cannot be read: Permission denied");
 }
