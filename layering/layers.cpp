@@ -188,7 +188,7 @@ std::vector<std::string> volume_shortfall_warnings(const LayerReport& report, do
   for (const auto& [shortfall, group] : short_groups) {
     char line[240];
     std::snprintf(line, sizeof line,
-                  "%s holds %.1f %% less than its mid-area x thickness (%zu columns thinned where the stack does not fit)",
+                  "%s holds %.1f %% less than its mid-area x thickness (%zu columns of the model thinned where the stack does not fit)",
                   group.c_str(), 100 * shortfall, report.reduced_columns);
     lines.push_back(line);
   }

@@ -36,7 +36,7 @@ struct FeModel {
   const Block* find(const std::string& name) const;  ///< nullptr if absent
 };
 
-/// Reads every physical group of a gmsh .msh (2.2 or 4.x) with the gmsh API.
+/// Reads every physical group of a gmsh .msh (2.x or 4.x, ASCII or binary; MSH 1 refused) with the gmsh API.
 /// @throws pipeline::Error(bad_input) naming the file if it is missing, unreadable or has no group.
 FeModel read_fe_model(const std::string& path);
 
@@ -95,7 +95,7 @@ struct LayerOptions {
   int elements_per_layer = 1;  ///< element layers through each tissue, [1, 20]
   std::map<std::string, int> elements_per_tissue;  ///< per-material override ("fat" → 3)
   /// Reach of the Laplacian smoothing of the offset directions [mm], [0, 100]: round((smoothing_mm /
-  /// mean skin edge)²) passes (each diffuses ~one edge). 14 mm: 14 passes on the tests' 4 mm NIOSH
+  /// mean skin edge)²) passes, at most 200 (each diffuses ~one edge). 14 mm: 14 passes on the tests' 4 mm NIOSH
   /// surface (mean edge 3.7 mm), 6 / 5 on the chain's 6.4 / 7 mm surfaces. A fixed 10 passes
   /// smoothed the chain surfaces over ~20 mm, and a
   /// column leaning by θ from the surface normal gives a layer only t·cos θ thick: the forehead
@@ -136,8 +136,8 @@ struct LayerReport {
 /// part's curvature the fix loop thins its columns, and a 30 mm cheek fat made the cheek's skin 23 %
 /// thinner than the materials file asks, with exit 0 and no word. The chain's heads stay within
 /// 4.4 % (the generated medium case head 3.9 %, the NIOSH heads 2.2 %).
-/// @return e.g. "left_cheek_skin holds 22.9 % less than its mid-area x thickness (225 columns
-///         thinned where the stack does not fit)"
+/// @return e.g. "left_cheek_skin holds 22.9 % less than its mid-area x thickness (225 columns of
+///         the model thinned where the stack does not fit)"
 std::vector<std::string> volume_shortfall_warnings(const LayerReport& report, double max_shortfall = 0.05);
 
 /// Offsets the face parts of a labelled surface into wedge layers.

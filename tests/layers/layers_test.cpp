@@ -521,10 +521,10 @@ TEST(volume_shortfall_warnings, names_each_group_more_than_5_percent_short) {
   rep.volumes = {group("forehead_skin", 961), group("left_cheek_skin", 771), group("left_cheek_fat", 940),
                  group("chin_bone", 1010)};
   EXPECT_EQ(layering::volume_shortfall_warnings(rep),
-            (std::vector<std::string>{"left_cheek_skin holds 22.9 % less than its mid-area x thickness (225 columns thinned "
-                                      "where the stack does not fit)",
-                                      "left_cheek_fat holds 6.0 % less than its mid-area x thickness (225 columns thinned "
-                                      "where the stack does not fit)"}));
+            (std::vector<std::string>{"left_cheek_skin holds 22.9 % less than its mid-area x thickness (225 columns of the model "
+                                      "thinned where the stack does not fit)",
+                                      "left_cheek_fat holds 6.0 % less than its mid-area x thickness (225 columns of the model "
+                                      "thinned where the stack does not fit)"}));
   rep.volumes.erase(rep.volumes.begin() + 1, rep.volumes.begin() + 3);
   EXPECT_TRUE(layering::volume_shortfall_warnings(rep).empty());  // 3.9 % short: the chain's heads
 }
