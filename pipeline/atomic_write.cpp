@@ -92,6 +92,17 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
 }
 
 void write_all_or_none(const std::vector<Output>& outputs) {
+  // Ctrl-C, SIGTERM and SIGHUP wait until the set is written (or removed): one between two
+  // outputs left the new first ones beside the earlier run's others, a set no run made (sweep P).
+  // A write that hangs can still be killed (SIGKILL).
+  sigset_t stop_signals, before;
+  sigemptyset(&stop_signals);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stop_signals, sig);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, &before);
+  struct Unblock {
+    sigset_t mask;
+    ~Unblock() { pthread_sigmask(SIG_SETMASK, &mask, nullptr); }
+  } unblock{before};
   std::vector<std::string> written;
   try {
     for (const Output& o : outputs) {

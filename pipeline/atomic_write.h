@@ -33,6 +33,7 @@ struct Output {
 /// the files the earlier ones wrote before re-throwing, so Make never sees part of a failed
 /// stage's outputs as new. (Each write is atomic on its own; this makes the set so.) A
 /// pipeline::Error re-thrown names the files removed: an earlier copy at those paths is gone too.
+/// SIGINT, SIGTERM and SIGHUP are held while the set is written and take effect after it.
 void write_all_or_none(const std::vector<Output>& outputs);
 
 /// The folder a file or folder at `path` would be made in: `path` itself if it is there, else the
