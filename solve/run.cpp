@@ -288,7 +288,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   // diverged_* files of an earlier failure.
   const fs::path dir(opt.out_dir);
   const OutDirLock lock(dir);
-  const std::string frames_path = (dir / ".results.frames.tmp").string();
+  const std::string frames_path = (dir / ".results.frames.tmp").string(), results_path = (dir / "results.msh").string();
   std::ofstream frames;
   auto remove_outputs = [&] {
     if (frames.is_open()) frames.close();
@@ -335,7 +335,16 @@ RunSummary run(const Model& model, const RunOptions& opt) {
     }
     const bool last = s.time() >= c.end_time;
     if (opt.write_results && (s.time() >= next_out - 1e-12 || last)) {
+      errno = 0;
       write_frame(frames, m, s, frame++);
+      // A frame that could not be written stops the run now: on a full disk it stepped on to its
+      // end (12 minutes for stage II) and said so only then (sweep P).
+      if (!frames.flush()) {
+        const std::string why = errno ? std::strerror(errno) : "disk full?";
+        remove_outputs();
+        throw pipeline::io_failed(results_path, "frame " + std::to_string(frame - 1) + " (t = " + fmt(s.time()) +
+                                                    " ms) could not be written: " + why + "; no results written");
+      }
       next_out = next_time(t0, out_dt, s.time());
     }
     if (last) break;
@@ -379,7 +388,7 @@ RunSummary run(const Model& model, const RunOptions& opt) {
   // 4. Outputs, now that the run is sound: each atomic, and all or none, results.msh (the largest)
   // first, so that a full disk leaves no state.bin or CSV beside missing results; state.bin last,
   // so that a run restarted from <out-dir>/state.bin keeps that file whatever fails before it.
-  const std::string results = (dir / "results.msh").string();
+  const std::string& results = results_path;
   try {
     if (frames.is_open()) {
       frames.close();

@@ -168,6 +168,22 @@ TEST(solve_cli, a_file_size_limit_leaves_no_outputs) {
       << c.read("err.txt");
   EXPECT_EQ(c.read("again/state.bin"), state);
   for (const char* f : {"results.msh", "energy.csv", "forces.csv"}) EXPECT_FALSE(fs::exists(c.dir + "/again/" + f)) << f;
+  // A limit the frames pass during the run (4 kB: the first frames) stops it there, with the
+  // system's reason, instead of stepping on to the end (sweep P: a disk filled 6 s into a run
+  // was reported after its last step).
+  c.write("long.json", deck(20.0));
+  ASSERT_EQ(c.sh("bash -c \"trap '' XFSZ; ulimit -f 4; exec " + std::string(BIN_DIR) + "/solve --model " + c.dir +
+                 "/block.msh --deck " + c.dir + "/long.json --out-dir " + c.dir + "/limited_early\""),
+            4)
+      << c.read("err.txt");
+  const std::string early = last_line(c.read("err.txt"));
+  EXPECT_EQ(early.rfind("solve: " + c.dir + "/limited_early/results.msh: frame ", 0), 0u) << early;
+  EXPECT_NE(early.find(" could not be written: File too large; no results written"), std::string::npos) << early;
+  const std::string frame_at = "results.msh: frame ";
+  const int stopped_at = std::atoi(early.c_str() + early.find(frame_at) + frame_at.size());
+  std::printf("stopped at frame %d of 81: %s\n", stopped_at, early.c_str());
+  EXPECT_LT(stopped_at, 40);  // of 81 (every 0.25 ms to 20 ms): not at the end
+  EXPECT_TRUE(fs::is_empty(c.dir + "/limited_early")) << fs::directory_iterator(c.dir + "/limited_early")->path();
 }
 
 // A model or deck kept in the output folder under an output's name was deleted by a diverging
