@@ -425,6 +425,27 @@ TEST_F(CasesMake, case_settings_reach_straps_and_assemble_and_a_change_reruns_on
     EXPECT_FALSE(fs::exists(c / stale)) << stale;
 }
 
+// The build folder reached through a link (a cluster's /home, a login node's path): the whole
+// shared chain re-ran, since inputs.txt named the scans by the path given, and again on the way
+// back (sweep P). Paths in the build folder are recorded from it.
+TEST_F(CasesMake, a_build_folder_reached_through_a_link_reruns_nothing) {
+  std::vector<std::string> ran;
+  ASSERT_EQ(make("case=medium_onesize", &ran), 0) << log_text(ran);
+  ASSERT_GT(ran.size(), 10u);
+  const fs::path link = build_.string() + "_link";
+  fs::remove(link);
+  fs::create_directory_symlink(build_, link);
+  for (const fs::path& build : {link, build_}) {
+    fs::remove(build_ / "log.txt");
+    ASSERT_EQ(run_command("make --no-print-directory -C " SOURCE_DIR " -f Makefile.cases case=medium_onesize BUILD=" +
+                          build.string() + " > " + (build_ / "make.out").string() + " 2>&1"),
+              0)
+        << file_text(build_ / "make.out");
+    EXPECT_FALSE(fs::exists(build_ / "log.txt")) << build << ": " << file_text(build_ / "log.txt");
+  }
+  fs::remove(link);
+}
+
 // What sweep P found make doing on a shared workstation. Two makes of one case at once (with and
 // without a user's scan, or with two settings) both said done over outputs of the other's making:
 // a second make now waits for the first. A case folder where inputs.txt cannot be written (full,
