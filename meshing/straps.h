@@ -24,6 +24,8 @@ struct StrapOptions {
   double length_mm = 300;     ///< unstretched length of each strap along its centre line [mm], [50, 1000]
   double width_mm = 6;        ///< band width [mm], [1, 30]
   double thickness_mm = 1;    ///< shell thickness [mm]: sets the clearance below; the decks take assemble's own value
+  // element_mm, clearance_mm and the two heights below have no option in the straps program:
+  // the pipeline's straps always have them (library users may change them).
   double element_mm = 3;      ///< target element length along the strap [mm]
   double clearance_mm = strap_clearance_mm;  ///< least distance of the band's mid-surface to the skin [mm] (+ half the thickness)
   /// Largest stretch [% of length_mm] the head's outline between the attachments may ask of a

@@ -51,6 +51,7 @@ user_file = $(if $(filter-out undefined,$(origin $(1))),\
     $(error $(1)='$($(1))': make cannot take a path with a space or a quote; link or copy the file to one without))\
   $(if $(wildcard $($(1))),,$(error $(1)=$($(1)): no such file))\
   $(if $(wildcard $($(1))/.),$(error $(1)=$($(1)): is a folder, give a file))\
+  $(if $(shell [ -f '$($(1))' ] || echo no),$(error $(1)=$($(1)): not a regular file (a device, pipe or socket)))\
   $(if $(shell [ -s '$($(1))' ] || echo empty),$(error $(1)=$($(1)): the file is empty))\
   $(eval override $(1) := $(realpath $($(1))))$(eval USER_FILES += $(1)))
 $(call user_file,HEADFORM_SCAN)

@@ -249,6 +249,7 @@ TEST_F(CasesMake, bad_variables_stop_before_anything_is_set_up) {
       {"LANDMARKS=/nonexistent.json", "LANDMARKS=/nonexistent.json: no such file"},
       {"LANDMARKS=" + build_.string(), ": is a folder, give a file"},
       {"RESPIRATOR_SCAN=" + (build_ / "empty.ply").string(), "empty.ply: the file is empty"},
+      {"HEADFORM_SCAN=/dev/zero", "HEADFORM_SCAN=/dev/zero: not a regular file (a device, pipe or socket)"},  // "empty" before
       {"GAP_MM=abc", "GAP_MM=abc: expected a number in mm"},
       {"STRAP_LENGTH_MM=", "STRAP_LENGTH_MM=: expected a number in mm"},
       {"'BRIDGE_OFFSET_MM=5 6'", "BRIDGE_OFFSET_MM='5 6': expected one number in mm"},
