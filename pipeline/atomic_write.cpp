@@ -25,8 +25,16 @@ namespace {
 constexpr int kPendingSlots = 8;
 char pending_path[kPendingSlots][4096];
 volatile std::sig_atomic_t pending_used[kPendingSlots];
+// While write_all_or_none renames a stage's outputs into place, a signal is held until the set is
+// complete (write_all_or_none raises it again then): the signal mask below holds it on the writing
+// thread, this flag on any other (an OpenMP worker may be the one the kernel picks).
+volatile std::sig_atomic_t writing_set = 0, held_signal = 0;
 
 extern "C" void remove_pending_and_reraise(int sig) {
+  if (writing_set) {
+    held_signal = sig;
+    return;
+  }
   for (int k = 0; k < kPendingSlots; ++k)
     if (pending_used[k]) ::unlink(pending_path[k]);
   std::signal(sig, SIG_DFL);  // then die of the signal as before, so the caller sees it
@@ -99,9 +107,14 @@ void write_all_or_none(const std::vector<Output>& outputs) {
   sigemptyset(&stop_signals);
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&stop_signals, sig);
   pthread_sigmask(SIG_BLOCK, &stop_signals, &before);
+  writing_set = 1;
   struct Unblock {
     sigset_t mask;
-    ~Unblock() { pthread_sigmask(SIG_SETMASK, &mask, nullptr); }
+    ~Unblock() {
+      writing_set = 0;
+      pthread_sigmask(SIG_SETMASK, &mask, nullptr);
+      if (const int sig = held_signal) held_signal = 0, ::raise(sig);
+    }
   } unblock{before};
   std::vector<std::string> written;
   try {

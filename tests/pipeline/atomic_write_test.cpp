@@ -4,7 +4,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <csignal>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -58,25 +61,40 @@ TEST(write_atomic, a_signal_during_a_write_leaves_no_temporary_file) {
 // the others the earlier run's, a set no run made (sweep P). The signal now takes effect once the
 // set is written: the process still dies of it, with every output new.
 TEST(write_all_or_none, a_signal_between_two_outputs_takes_effect_after_the_set) {
-  const fs::path dir = scratch_dir() / "all_or_none_signal";
-  fs::remove_all(dir);
-  const std::string a = (dir / "a.txt").string(), b = (dir / "b.txt").string(), c = (dir / "c.txt").string();
-  for (const auto& p : {a, b, c}) pipeline::write_text_atomic(p, "old");
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    std::signal(SIGTERM, SIG_DFL);
-    pipeline::remove_temporary_files_on_signals();
-    pipeline::write_all_or_none({{a, [&] { pipeline::write_text_atomic(a, "new"); }},
-                                 {b, [&] { pipeline::write_text_atomic(b, "new"), ::raise(SIGTERM); }},
-                                 {c, [&] { pipeline::write_text_atomic(c, "new"); }}});
-    ::_exit(0);  // not reached: the signal is delivered when the set is written
+  // raised on the writing thread, or sent to the process and taken by another thread (an OpenMP
+  // worker, say), which the writing thread's signal mask does not cover
+  for (const bool other_thread : {false, true}) {
+    const fs::path dir = scratch_dir() / "all_or_none_signal";
+    fs::remove_all(dir);
+    const std::string a = (dir / "a.txt").string(), b = (dir / "b.txt").string(), c = (dir / "c.txt").string();
+    for (const auto& p : {a, b, c}) pipeline::write_text_atomic(p, "old");
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      std::signal(SIGTERM, SIG_DFL);
+      pipeline::remove_temporary_files_on_signals();
+      std::atomic<bool> go{false};
+      std::thread sender([&] {
+        while (!go) std::this_thread::yield();
+        if (other_thread) ::kill(::getpid(), SIGTERM);
+      });
+      pipeline::write_all_or_none({{a, [&] { pipeline::write_text_atomic(a, "new"); }},
+                                   {b, [&] {
+                                      pipeline::write_text_atomic(b, "new");
+                                      if (!other_thread) ::raise(SIGTERM);
+                                      go = true;
+                                      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+                                    }},
+                                   {c, [&] { pipeline::write_text_atomic(c, "new"); }}});
+      sender.join();
+      ::_exit(0);  // not reached: the signal is delivered when the set is written
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status << " other thread " << other_thread;
+    for (const auto& p : {a, b, c}) EXPECT_EQ(pipeline::read_text(p), "new") << p << " other thread " << other_thread;
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
   }
-  int status = 0;
-  ASSERT_EQ(waitpid(child, &status, 0), child);
-  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
-  for (const auto& p : {a, b, c}) EXPECT_EQ(pipeline::read_text(p), "new") << p;
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 3);
 }
 
 TEST(write_atomic, failed_writer_leaves_no_file_and_keeps_old_one) {
