@@ -14,6 +14,8 @@ namespace pipeline {
 /// @param[in] writer  writes the complete file to the path it is given; may throw
 /// @throws Error(io) if the writer left no file or the rename failed; any exception of the
 ///         writer is re-thrown after the temporary file is removed. `path` is untouched on failure.
+/// The temporary file is `.tmp.<pid>.<name>` (`.tmp.<pid>.<ext>` for a name too long for that);
+/// such files of `path` left by a process that no longer exists (killed by SIGKILL) are removed.
 void write_atomic(const std::string& path, const std::function<void(const std::string& tmp_path)>& writer);
 
 /// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files write_atomic is writing before the

@@ -97,6 +97,32 @@ TEST(write_all_or_none, a_signal_between_two_outputs_takes_effect_after_the_set)
   }
 }
 
+// A stage killed by SIGKILL (no handler sees it) left its `.tmp.<pid>.<name>` for good, a model's
+// size (sweep P): the next write of that output removes it when its process is gone, and keeps
+// one whose process still runs. A legal name of 250 characters was refused: the prefix took the
+// temporary name past the system's 255.
+TEST(write_atomic, a_dead_process_temporary_goes_and_a_long_name_is_written) {
+  const fs::path dir = scratch_dir() / "stale_temporaries";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const pid_t gone = fork();
+  ASSERT_GE(gone, 0);
+  if (gone == 0) ::_exit(0);
+  ASSERT_EQ(waitpid(gone, nullptr, 0), gone);
+  const fs::path dead = dir / (".tmp." + std::to_string(gone) + ".model.msh");
+  const fs::path alive = dir / (".tmp." + std::to_string(::getppid()) + ".model.msh");
+  const fs::path other = dir / (".tmp." + std::to_string(gone) + ".other.msh");
+  for (const auto& p : {dead, alive, other}) std::ofstream(p) << "half";
+  pipeline::write_text_atomic((dir / "model.msh").string(), "whole");
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(alive));  // another stage may be writing it now
+  EXPECT_TRUE(fs::exists(other));  // another output's: left to its own next write
+  EXPECT_EQ(pipeline::read_text((dir / "model.msh").string()), "whole");
+  const std::string long_name = std::string(246, 'n') + ".json";
+  pipeline::write_text_atomic((dir / long_name).string(), "{}");
+  EXPECT_EQ(pipeline::read_text((dir / long_name).string()), "{}");
+}
+
 TEST(write_atomic, failed_writer_leaves_no_file_and_keeps_old_one) {
   const fs::path dir = scratch_dir() / "atomic_fail";
   fs::remove_all(dir);
