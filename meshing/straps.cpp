@@ -286,9 +286,12 @@ FeModel make_straps(const FeModel& head, const std::map<std::string, Eigen::Vect
                                                      pipeline::format_number(q.x()) + ", " + pipeline::format_number(q.y()) + ", " + pipeline::format_number(q.z()) + ") mm");
     }
     for (int v : push) {
-      Eigen::Vector3d cp;
-      tree.signed_distance(out.nodes[v], &cp);
-      out.nodes[v] += (out.nodes[v] - cp).normalized();
+      // 1 mm away from the skin: along the line from the nearest skin point, or along the skin's
+      // outward normal for a node on or inside the skin (the line gave NaN, or pushed it further
+      // in: sweep Q; no strap node has come that near in any case or test).
+      Eigen::Vector3d cp, normal;
+      const double d = tree.signed_distance(out.nodes[v], &cp, &normal);
+      out.nodes[v] += d > 1e-9 ? Eigen::Vector3d((out.nodes[v] - cp).normalized()) : normal.normalized();
     }
   }
   // Centre-line lengths after the fix (stations: 3 nodes each, centre in the middle).
