@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <csignal>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -67,11 +67,6 @@ std::string bytes_text(double bytes) {
   return b;
 }
 
-// A frame at every step (control.output_interval below dt) of a large model, or a history row at
-// every step of a long run, can need terabytes, which a full disk would show only hours into the
-// run. The need is estimated from the starting step (it can shrink as elements deform) with every
-// value at its longest and the frames counted twice (they are kept in a temporary file and
-// copied into results.msh), plus the mesh and the state (~100 bytes per node and per element).
 // One run per output folder, for the run's life: two runs into one --out-dir shared the frames
 // file and each removed the other's outputs (a finished run's results.msh deleted by the other,
 // which then failed with a file system error; sweep P). The second run is refused, not queued: it
@@ -109,6 +104,11 @@ class OutDirLock {
   int fd_ = -1;
 };
 
+// A frame at every step (control.output_interval below dt) of a large model, or a history row at
+// every step of a long run, can need terabytes, which a full disk would show only hours into the
+// run. The need is estimated from the starting step (it can shrink as elements deform) with every
+// value at its longest and the frames counted twice (they are kept in a temporary file and
+// copied into results.msh), plus the mesh and the state (~100 bytes per node and per element).
 // Checked on the file system out_dir will be on, before it is made.
 void require_room_for_outputs(const Model& m, std::size_t elements, const std::string& out_dir, double frames,
                               double rows, bool write_results) {
