@@ -455,6 +455,11 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
     s.w_external = st.w_external;
     s.e_initial = st.e_initial;
     s.e_initial_set = st.e_initial_set;
+    // The saved step is kept (a restarted run is the run it continues), but the stable step
+    // reported beside it is the saved state's, not the reference geometry's the constructor
+    // measured (sweep Q).
+    const auto d = s.compute_stable_dt();
+    if (std::isfinite(d.every)) s.dt_stable = std::isfinite(d.free) ? d.free : d.every;
   } else {
     const auto d = s.compute_stable_dt();
     if (s.m.control.dt_target <= 0 && std::isfinite(d.every)) s.choose_step(d.free, d.every);

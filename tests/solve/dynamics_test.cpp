@@ -348,6 +348,22 @@ TEST(energy, balance_holds_through_velocity_and_load_jumps_and_a_moving_restart)
   }
 }
 
+// A restart keeps the saved step, and reports the saved state's stable step beside it: it reported
+// the reference geometry's, measured before the state was set (sweep Q). Saved where the first run
+// had just measured its own (every dt_update_interval = 7 steps), the two are the same number.
+TEST(save_state, a_restart_reports_the_saved_states_stable_step) {
+  solve::Solver first(busy_block());
+  for (int k = 0; k < 70; ++k) first.step();
+  solve::Solver restarted(busy_block());
+  const double at_reference = restarted.stable_dt();
+  restarted.set_state(first.state());
+  std::printf("stable step: reference geometry %.9g ms, saved state %.9g ms, restarted %.9g ms\n", at_reference,
+              first.stable_dt(), restarted.stable_dt());
+  EXPECT_NE(first.stable_dt(), at_reference);  // the block has deformed
+  EXPECT_EQ(restarted.stable_dt(), first.stable_dt());
+  EXPECT_EQ(restarted.dt(), first.dt());
+}
+
 // A later stage that starts at rest (initial_state with reset_velocity, the saved time kept) from
 // a moving state: the deck's initial velocity applies (it was dropped: the README's example
 // respirator started at rest) and the energy balance is measured from there (the kinetic energy
