@@ -338,6 +338,8 @@ FeModel assemble_model(const FeModel& head, const FeModel& resp, const FeModel& 
   }
   r.nodes = out.nodes.size();
   if (report) *report = r;
+  // place_respirator leaves the gap within [gap, gap + 0.001] mm (its bisection): 0.01 mm under the
+  // gap asked means the placement itself went wrong.
   if (r.intersecting_pairs || r.gap_mm < opt.gap_mm - 0.01 || r.strap_gap_mm <= 0)
     throw pipeline::algorithm_failed("placement", "initial penetration: " + std::to_string(r.intersecting_pairs) +
                                                      " face pairs intersect (" + groups + " ), gap " + pipeline::format_number(r.gap_mm) +

@@ -54,10 +54,13 @@ void attachments(const FeModel& resp, const Eigen::Vector3d& shift, Attach* top,
 
 double lay_strap(const FeModel& head, const std::vector<std::array<int, 3>>& skin, const Attach& a, double back_y,
                  const StrapOptions& opt, const std::string& name, FeModel* out, double* outline_mm) {
-  // Point on the back of the head (sagittal plane, height back_y): the rear-most skin node there.
+  // Point on the back of the head (sagittal plane, height back_y): the rear-most skin node there,
+  // among nodes within 8 mm of the midline and 6 mm of that height: a window about two skin edges
+  // wide (the chain's layered skins have 4-7 mm edges), so it always holds a node.
+  constexpr double midline_window_mm = 8, height_window_mm = 6;
   Eigen::Vector3d back(0, back_y, 1e300);
   for (const auto& p : head.nodes)
-    if (std::abs(p.x()) < 8 && std::abs(p.y() - back_y) < 6 && p.z() < back.z()) back = p;
+    if (std::abs(p.x()) < midline_window_mm && std::abs(p.y() - back_y) < height_window_mm && p.z() < back.z()) back = p;
   if (back.z() > 1e299) throw pipeline::bad_input("head", name + ": no skin at the back of the head at y = " + pipeline::format_number(back_y));
   const Eigen::Vector3d mid = 0.5 * (a.left + a.right), o = 0.5 * (mid + back);
   const Eigen::Vector3d u = (a.left - a.right).normalized();

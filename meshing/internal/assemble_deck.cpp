@@ -146,6 +146,9 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
     if (!d["materials"].contains(mt))
       throw pipeline::bad_input("model", "group " + b.name + ": no material \"" + mt + "\" in materials.json");
     json p = {{"group", b.name}, {"material", mt}};
+    // back_of_head is a rigid shell, fixed in both stages: its thickness sets only its mass, which
+    // enters only the contact stiffness of what touches it (through the reduced mass, contact.h).
+    // 1 mm: a thickness the solver requires of every membrane part, not a measured one.
     if (shell) p["thickness"] = b.name == "back_of_head" ? 1.0 : strap_t;
     parts.push_back(p);
     if (mt == "bone" || b.name == "back_of_head") bones.push_back(b.name);
