@@ -196,7 +196,8 @@ std::vector<PartStats> segment_head(SurfaceMesh& mesh, const HeadLandmarks& lm) 
     fface[v] = smooth_max({in_front, above_jaw, below_top}, blend_mm);
     // Forehead = upper-forehead band united with the nose. The nose's lateral edge is the
     // cheek-nose fold, at a half-width growing from the nasal root to the alae; its lower edge
-    // lies just above the subnasale (not a landmark: 0.35 nose height below the pronasale).
+    // lies just below the subnasale (not a landmark): 0.5 nose height below the pronasale, 0.75
+    // at the alae (y_subnasale above).
     const double band = y - (lm.sellion[1] - 0.15 * face_length);
     const double t = std::clamp((lm.sellion[1] - y) / nose_height, 0.0, 1.0);
     const double half_width = nose_root_half_width + t * (nose_ala_half_width - nose_root_half_width);

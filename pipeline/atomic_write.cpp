@@ -77,16 +77,22 @@ void remove_temporary_files_on_signals() {
 // output's own name is looked for, and only a process that no longer exists (kill(pid, 0) fails
 // with ESRCH) counts as gone, so a stage writing the same output at this moment keeps its file.
 namespace {
+// The temporary file's name for `target` written by process `pid`: `.tmp.<pid>.<name>`, the
+// extension last (some writers, gmsh and CGAL, choose the format from it). A name too long for
+// the prefix (a legal 245-255 character name was refused, sweep P) keeps only its extension.
+std::string temporary_name(const std::string& pid, const fs::path& target) {
+  const std::string prefix = ".tmp." + pid + ".", name = target.filename().string();
+  return prefix.size() + name.size() <= 255 ? prefix + name : ".tmp." + pid + target.extension().string();
+}
+
 void remove_stale_temporaries(const fs::path& target) {
   std::error_code ec;
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  const std::string suffix = "." + target.filename().string();
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string f = entry.path().filename().string();
-    if (f.rfind(".tmp.", 0) != 0 || f.size() <= 5 + suffix.size() || f.compare(f.size() - suffix.size(), suffix.size(), suffix) != 0)
-      continue;
-    const std::string pid_text = f.substr(5, f.size() - 5 - suffix.size());
-    if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9) continue;
+    if (f.rfind(".tmp.", 0) != 0) continue;
+    const std::string pid_text = f.substr(5, f.find_first_not_of("0123456789", 5) - 5);
+    if (pid_text.empty() || pid_text.size() > 9 || f != temporary_name(pid_text, target)) continue;
     const pid_t pid = pid_t(std::stol(pid_text));
     if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove(entry.path(), ec);
   }
@@ -101,12 +107,7 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
     if (ec) throw io_failed(path, "cannot create directory: " + ec.message());
   }
   remove_stale_temporaries(target);
-  // Keep the extension last: some writers (gmsh, CGAL) choose the format from it. A name too
-  // long for the prefix (a legal 245-255 character name was refused, sweep P) keeps only that.
-  const std::string prefix = ".tmp." + std::to_string(::getpid()) + ".", name = target.filename().string();
-  const std::string tmp =
-      (target.parent_path() / (prefix.size() + name.size() <= 255 ? prefix + name : prefix + target.extension().string()))
-          .string();
+  const std::string tmp = (target.parent_path() / temporary_name(std::to_string(::getpid()), target)).string();
   const PendingFile pending(tmp);
   try {
     errno = 0;  // so why_write_failed gives this write's reason, not an earlier call's

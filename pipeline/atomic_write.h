@@ -14,7 +14,7 @@ namespace pipeline {
 /// @param[in] writer  writes the complete file to the path it is given; may throw
 /// @throws Error(io) if the writer left no file or the rename failed; any exception of the
 ///         writer is re-thrown after the temporary file is removed. `path` is untouched on failure.
-/// The temporary file is `.tmp.<pid>.<name>` (`.tmp.<pid>.<ext>` for a name too long for that);
+/// The temporary file is `.tmp.<pid>.<name>` (`.tmp.<pid><.ext>` for a name too long for that);
 /// such files of `path` left by a process that no longer exists (killed by SIGKILL) are removed.
 void write_atomic(const std::string& path, const std::function<void(const std::string& tmp_path)>& writer);
 
@@ -49,7 +49,7 @@ std::string nearest_existing_folder(const std::string& path);
 /// A stage otherwise found out after its work (minutes of reconstruct or fit) that it could not
 /// write there. The check creates and removes an empty file, so it holds for root, read-only
 /// mounts and /proc alike. Empty paths (outputs not requested) are skipped.
-/// @throws Error(io) "<path>: cannot write in <folder>: Permission denied", or "<path>: is a folder"
+/// @throws Error(io) "<path>: cannot write in <folder>: Permission denied", or "<path>: is a folder, not a file"
 void require_writable_outputs(const std::vector<std::string>& paths);
 
 /// Writes `text` to `path` atomically.

@@ -33,7 +33,8 @@ class Cli {
               const std::string& help, int min = std::numeric_limits<int>::min(),
               int max = std::numeric_limits<int>::max());
   /// A whole-number option of the full 64-bit range (a random seed): digits only, read exactly
-  /// (through a double, 2^53 + 1 read as 2^53 and 1.5 as 1).
+  /// (1.5, -1, 1e3 and values above 2^64 - 1 are usage errors; it was read through a double,
+  /// 2^53 + 1 as 2^53 and 1.5 as 1).
   Cli& option(const std::string& short_flag, const std::string& long_flag, std::uint64_t* value,
               const std::string& help);
   /// A boolean switch (no argument).

@@ -16,7 +16,8 @@ double Progress::elapsed_s() const {
 
 void Progress::update(std::size_t done, const std::string& step) {
   const auto now = clock::now();
-  if (std::chrono::duration<double>(now - last_).count() < min_interval_s_ && done < total_) return;
+  // the last unit of a known total is always printed; without a total (0) every line is limited
+  if (std::chrono::duration<double>(now - last_).count() < min_interval_s_ && (total_ == 0 || done < total_)) return;
   last_ = now;
   const double t = elapsed_s();
   if (total_ > 0 && done > 0) {

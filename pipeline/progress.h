@@ -1,5 +1,6 @@
 #pragma once
-/// Progress on stderr for long work: "stage: step  done/total (pct) ETA 12 s".
+/// Progress on stderr for long work: "stage: step 10/40 (25%) elapsed 3.0 s ETA 9.0 s" (without a
+/// total: "stage: step 10 elapsed 3.0 s").
 /// Lines are rate-limited (at most one every `min_interval_s`) so logs stay short.
 #include <chrono>
 #include <cstddef>

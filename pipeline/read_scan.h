@@ -2,8 +2,9 @@
 /// Reading scans and meshes. Scanner formats: PLY (ascii/binary), STL (ascii/binary), OBJ, OFF
 /// (meshes or point sets) and points as text, .xyz .pts .txt .csv .asc (x y z, then any columns:
 /// the normals are the three that are unit vectors, the others are left out with a note; see
-/// read_xyz in read_scan.cpp for separators, headers and Leica PTS). PLY, OFF and XYZ are
-/// read with CGAL; STL and OBJ with assimp. PLY face indices of 8 or 16 bits, which CGAL's reader
+/// read_xyz in read_scan.cpp for separators, headers and Leica PTS). PLY and OFF are read with
+/// CGAL, points as text by read_xyz (written here), STL and OBJ meshes with assimp (an OBJ of
+/// vertices only by read_obj_points). PLY face indices of 8 or 16 bits, which CGAL's reader
 /// does not take, are widened to 32 bits in memory first.
 #include <string>
 #include <vector>

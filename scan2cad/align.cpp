@@ -325,21 +325,4 @@ std::string align_json(const AlignResult& r, AlignKind kind, double unit_scale_t
   return j.dump(2) + "\n";
 }
 
-Eigen::Matrix4d read_align_transform(const std::string& path) {
-  Eigen::Matrix4d T;
-  try {
-    const auto j = pipeline::read_json(path);
-    const auto& m = j.at("matrix");
-    if (!m.is_array() || m.size() != 4) throw pipeline::bad_input(path, "\"matrix\" must have 4 rows");
-    for (int i = 0; i < 4; ++i) {
-      if (m[i].size() != 4) throw pipeline::bad_input(path, "\"matrix\" row must have 4 numbers");
-      for (int k = 0; k < 4; ++k) T(i, k) = m[i][k].get<double>();
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw pipeline::bad_input(path, std::string("not a transform file: ") + e.what());
-  }
-  if (!T.allFinite()) throw pipeline::bad_input(path, "\"matrix\" has non-finite entries");
-  return T;
-}
-
 }  // namespace scan2cad

@@ -102,12 +102,9 @@ void require_head_frame(const pipeline::SurfaceMesh& head);
 void apply_transform(pipeline::SurfaceMesh& mesh, const Eigen::Matrix4d& T);
 
 /// The transform as JSON: {"kind", "frame", "origin", "unit_scale_to_mm", "matrix" (4 rows,
-/// acting on column vectors in mm after the unit scaling), "symmetry_rms_mm", "symmetry_inliers"}.
+/// acting on column vectors in mm after the unit scaling), "matrix_applies_to", "symmetry_rms_mm",
+/// "symmetry_inliers"}.
 std::string align_json(const AlignResult& r, AlignKind kind, double unit_scale_to_mm);
-
-/// Reads the 4×4 "matrix" of a transform file written by align_json.
-/// @throws pipeline::Error(bad_input) naming `path` if missing or malformed.
-Eigen::Matrix4d read_align_transform(const std::string& path);
 
 /// Loads a user's surface file of any supported format and unit (pipeline::read_scan: mm, cm or
 /// m detected from the size unless `unit` names one; inches only when named) and makes a polygon

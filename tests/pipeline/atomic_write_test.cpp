@@ -119,8 +119,11 @@ TEST(write_atomic, a_dead_process_temporary_goes_and_a_long_name_is_written) {
   EXPECT_TRUE(fs::exists(other));  // another output's: left to its own next write
   EXPECT_EQ(pipeline::read_text((dir / "model.msh").string()), "whole");
   const std::string long_name = std::string(246, 'n') + ".json";
+  const fs::path dead_long = dir / (".tmp." + std::to_string(gone) + ".json");  // its short form
+  std::ofstream(dead_long) << "half";
   pipeline::write_text_atomic((dir / long_name).string(), "{}");
   EXPECT_EQ(pipeline::read_text((dir / long_name).string()), "{}");
+  EXPECT_FALSE(fs::exists(dead_long));
 }
 
 TEST(write_atomic, failed_writer_leaves_no_file_and_keeps_old_one) {
