@@ -52,7 +52,7 @@ struct StrapReport {
 /// Lays both straps. The strap plane passes through the two attachment points and a point on the
 /// back of the head; the strap follows the convex hull of the skin within the slab the band
 /// occupies (projected onto that plane, band across = the plane's normal), offset outward by
-/// `gap_mm + thickness/2`, and is centred on the back of the head.
+/// `clearance_mm + thickness/2`, and is centred on the back of the head.
 /// @return groups strap_top, strap_bottom (quads), strap_<s>_end_<side> (2-node lines across each end),
 ///   strap_<s>_attach_<side> (one point each: the attachment point on the placed rim); side left = +x.
 /// @throws Error(bad_input) if a strap, centred on the back of the head, runs past an attachment
