@@ -322,18 +322,8 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
   // 1. Pronasale: the highest point of the front profile (nose tip), parabola-refined.
   const std::size_t ip = prof.extreme(prof.y(0), prof.y(prof.z.size() - 1), +1);
   const Vector2d prn = prof.refine(ip, 3.0 * k);
-  std::size_t i_gl = prof.extreme(prn.x() + 30.0 * k, prn.x() + 90.0 * k, +1);  // glabella (forehead)
+  const std::size_t i_gl = prof.extreme(prn.x() + 30.0 * k, prn.x() + 90.0 * k, +1);  // glabella (forehead)
   if (i_gl == prof.z.size()) throw pipeline::algorithm_failed("head", "no forehead above the nose tip");
-  // A maximum at the window's lower end is the nose bridge still rising toward the tip (a nose
-  // longer than the window's 30 mm, on a head larger than NIOSH medium but within the tuned
-  // spans): the forehead is above the nasal root, the profile's first low point above there.
-  if (i_gl == prof.index(prn.x() + 30.0 * k)) {
-    std::size_t root = i_gl;
-    while (root + 1 < prof.z.size() && prof.y(root + 1) < prn.x() + 90.0 * k && std::isfinite(prof.z[root + 1]) &&
-           prof.z[root + 1] <= prof.z[root])
-      ++root;
-    if (const std::size_t above = prof.extreme(prof.y(root), prn.x() + 90.0 * k, +1); above != prof.z.size()) i_gl = above;
-  }
   const double around = std::max(prof.z[prof.extreme(prn.x() + 40 * k, prn.x() + 45 * k, +1) % prof.z.size()],
                                  prof.z[prof.extreme(prn.x() - 45 * k, prn.x() - 40 * k, +1) % prof.z.size()]);
   L.points["pronasale"] = at({0.0, prn.x(), prn.y()}, (prn.y() - around) / (15.0 * k));
