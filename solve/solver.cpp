@@ -69,6 +69,13 @@ struct Solver::Impl {
   /// next one that frees it: a stiffness from the longer step was 16 times softer in stage I,
   /// and stage II then began with a 318.6 N jump of the bottom strap's contact force on stage
   /// I's penetrations (31.8 N at its end; solve/README.md).
+  /// The model's initial velocities on their groups, tied and rigid nodes then made consistent.
+  void apply_initial_velocities() {
+    for (const auto& iv : m.initial_velocities)
+      for (int id : m.group(iv.group))
+        for (int i = 0; i < 3; ++i) v[3 * id + i] = iv.v[i];
+    internal::init_constraint_velocities(con, x, mass, v);
+  }
   void choose_step(double stable_free, double stable_every) {
     dt_stable = std::isfinite(stable_free) ? stable_free : stable_every;
     dt_contact = m.control.dt_scale * stable_every;
@@ -175,10 +182,7 @@ Solver::Solver(Model model, const std::vector<double>* start_x) : p_(std::make_u
       for (int id : b.conn) rigid_node[id] = 1;
   s.con = internal::build_constraints(m, rigid_node, s.mass, start_x ? *start_x : s.x);
   // 4. Initial velocities.
-  for (const auto& iv : m.initial_velocities)
-    for (int id : m.group(iv.group))
-      for (int i = 0; i < 3; ++i) s.v[3 * id + i] = iv.v[i];
-  internal::init_constraint_velocities(s.con, s.x, s.mass, s.v);
+  s.apply_initial_velocities();
   // 5. Contact pairs.
   for (const auto& c : m.contacts) {
     ContactSpec spec;
@@ -468,10 +472,7 @@ void Solver::set_state(const SolverState& st, bool reset_time, bool reset_veloci
     // At rest, then the deck's initial velocities, as at t = 0 of a run without a state.
     std::fill(s.v.begin(), s.v.end(), 0.0);
     internal::set_rigid_velocities(s.con, {});
-    for (const auto& iv : s.m.initial_velocities)
-      for (int id : s.m.group(iv.group))
-        for (int i = 0; i < 3; ++i) s.v[3 * id + i] = iv.v[i];
-    if (!s.m.initial_velocities.empty()) internal::init_constraint_velocities(s.con, s.x, s.mass, s.v);
+    s.apply_initial_velocities();
     // The kinetic energy changed by fiat, outside the balance: it restarts from the next step
     // (kept, the kinetic energy removed showed as a balance error and could stop the run).
     s.e_initial_set = false;

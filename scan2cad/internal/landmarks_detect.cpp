@@ -301,9 +301,9 @@ double landmark_window_scale_of_span(double span_mm) {
   return std::clamp(k, 0.7, 1.4);
 }
 
-double landmark_window_scale(const SurfaceMesh& head) {
-  Profile prof;
-  const auto segs = midline(head, prof);
+namespace {
+// landmark_window_scale on a midline section already made (detect_landmarks needs it too).
+double window_scale_of(const std::vector<std::pair<Vector2d, Vector2d>>& segs, const Profile& prof) {
   const Vector2d prn = prof.refine(prof.extreme(prof.y(0), prof.y(prof.z.size() - 1), +1), 3.0);
   // Twice: the chin window of the first pass is the unscaled one; the second's is already
   // near the head's own scale, so the scale is (nearly) a fixed point.
@@ -311,13 +311,20 @@ double landmark_window_scale(const SurfaceMesh& head) {
   for (int pass = 0; pass < 2; ++pass) k = landmark_window_scale_of_span((prn - find_menton(segs, prn, k)).norm());
   return k;
 }
+}  // namespace
+
+double landmark_window_scale(const SurfaceMesh& head) {
+  Profile prof;
+  const auto segs = midline(head, prof);
+  return window_scale_of(segs, prof);
+}
 
 Landmarks detect_landmarks(const SurfaceMesh& head) {
   Landmarks L;
-  L.window_scale = landmark_window_scale(head);
-  const double k = L.window_scale;  // every length below is times k
   Profile prof;
   const auto segs = midline(head, prof);
+  L.window_scale = window_scale_of(segs, prof);
+  const double k = L.window_scale;  // every length below is times k
 
   // 1. Pronasale: the highest point of the front profile (nose tip), parabola-refined.
   const std::size_t ip = prof.extreme(prof.y(0), prof.y(prof.z.size() - 1), +1);
