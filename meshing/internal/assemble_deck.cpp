@@ -163,6 +163,12 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
     if (m.find(s))
       contact.push_back({{"name", std::string(s) + "_on_head"}, {"slave", s}, {"master", "head_skin"},
                          {"penalty_scale", penalty_scale}});
+  // The mean of a strap end line's element nodes (its middle node counts twice: both line elements hold it).
+  const auto centre_of = [&](const layering::Block& end) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int v : end.conn) c += m.nodes[v] / double(end.conn.size());
+    return c;
+  };
   const double alpha = stage1_damping_alpha(mat);
   if (stage == 1) {
     // Head and respirator held; each strap end moves with constant speed to its attachment
@@ -175,8 +181,7 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
         const auto* end = m.find(std::string("strap_") + s + "_end_" + side);
         const auto* att = m.find(std::string("attach_") + s + "_" + side);
         if (!end || !att) continue;
-        Eigen::Vector3d c = Eigen::Vector3d::Zero();
-        for (int v : end->conn) c += m.nodes[v] / double(end->conn.size());
+        const Eigen::Vector3d c = centre_of(*end);
         const EndPath path = end_path(skin, c, m.nodes[att->conn[0]], strap_clearance_mm + 0.5 * strap_t);
         for (int k = 0; k < 3; ++k) {
           json curve = json::array();
@@ -203,8 +208,7 @@ nlohmann::json make_deck(const layering::FeModel& m, const nlohmann::json& mat, 
         // Stage I brings the end line's middle onto the attachment node: its other nodes end up
         // as far from it as they are from their middle (half the strap's width), and 2 mm more
         // are allowed for the end's turn along the path. 5 mm at least (the 6 mm strap's 3 + 2).
-        Eigen::Vector3d c = Eigen::Vector3d::Zero();
-        for (int v : end_group->conn) c += m.nodes[v] / double(end_group->conn.size());
+        const Eigen::Vector3d c = centre_of(*end_group);
         double half_mm = 0;
         for (int v : end_group->conn) half_mm = std::max(half_mm, (m.nodes[v] - c).norm());
         ties.push_back({{"name", end + "_to_respirator"}, {"group_a", end}, {"group_b", att},
