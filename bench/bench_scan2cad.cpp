@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "data/generator/scanner_artifacts.h"
+#include "pipeline/soup_to_mesh.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/read_scan.h"
@@ -64,7 +65,7 @@ int main(int argc, char** argv) {
       pipeline::require_writable_outputs({out_prefix + "_reconstructed.ply", out_prefix + "_repaired.ply"});
     // 1. Reference surface and simulated scan
     const auto scan_in = pipeline::read_scan(mesh_path);
-    const auto reference = scan2cad::internal::soup_to_mesh(scan_in.soup, nullptr);
+    const auto reference = pipeline::soup_to_mesh(scan_in.soup);
     generator::ScanOptions so;
     so.points = std::size_t(points);
     so.noise_mm = noise;

@@ -822,6 +822,12 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
     PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
   }
   if (mesh.number_of_faces() == 0) throw bad_input(path, "mesh has no faces");
+  // Every stage writes triangles, and every reader of this mesh (AABB trees, samplers, ray
+  // grids) takes three corners of a face: of a square it saw half (sweep S).
+  for (auto f : mesh.faces())
+    if (mesh.degree(f) != 3)
+      throw bad_input(path, "face " + std::to_string(std::size_t(f)) + " has " + std::to_string(mesh.degree(f)) +
+                                " corners, expected triangles (a stage's output; run repair first)");
   for (auto v : mesh.vertices()) {
     const Point& p = mesh.point(v);
     if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
@@ -836,7 +842,7 @@ SurfaceMesh read_surface_mesh(const std::string& path) {
   // CGAL's remeshing (surface_mesh) crash and segment's ray tests assert or cut absurd parts.
   std::size_t degenerate = 0, first = 0;
   for (auto f : mesh.faces())
-    if (mesh.degree(f) == 3 && PMP::is_degenerate_triangle_face(f, mesh) && degenerate++ == 0) first = std::size_t(f);
+    if (PMP::is_degenerate_triangle_face(f, mesh) && degenerate++ == 0) first = std::size_t(f);
   if (degenerate > 0)
     throw bad_input(path, std::to_string(degenerate) + " degenerate face" + (degenerate > 1 ? "s" : "") +
                               " (zero area; the first is face " + std::to_string(first) + "): run repair first");

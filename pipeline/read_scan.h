@@ -43,10 +43,10 @@ struct Scan {
 ///         explains.
 Scan read_scan(const std::string& path, const ScanReadOptions& opt = {});
 
-/// Reads a polygon mesh that a previous stage wrote (mm, no unit guessing) into a Surface_mesh,
+/// Reads a triangle mesh that a previous stage wrote (mm, no unit guessing) into a Surface_mesh,
 /// keeping PLY vertex/face properties (e.g. "f:part").
-/// @throws Error(bad_input) if unreadable, empty, non-finite, not a 2-manifold polygon mesh, or
-///         with a degenerate (zero-area) triangle.
+/// @throws Error(bad_input) if unreadable, empty, non-finite, not a 2-manifold polygon mesh, with
+///         a face of more than 3 corners, or with a degenerate (zero-area) triangle.
 SurfaceMesh read_surface_mesh(const std::string& path);
 
 }  // namespace pipeline

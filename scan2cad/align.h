@@ -107,8 +107,9 @@ void apply_transform(pipeline::SurfaceMesh& mesh, const Eigen::Matrix4d& T);
 std::string align_json(const AlignResult& r, AlignKind kind, double unit_scale_to_mm);
 
 /// Loads a user's surface file of any supported format and unit (pipeline::read_scan: mm, cm or
-/// m detected from the size unless `unit` names one; inches only when named) and makes a polygon
-/// mesh of it (CGAL repair_polygon_soup, orient, polygon_soup_to_polygon_mesh).
+/// m detected from the size unless `unit` names one; inches only when named) and makes a triangle
+/// mesh of it (pipeline::soup_to_mesh: a scanner's quads are cut into triangles, which the
+/// symmetry search's samples and AABB tree and landmarks' ray grids read).
 /// `unit_read` receives the unit the file was read in (its scale: pipeline::mm_per_unit).
 /// @throws pipeline::Error(bad_input) naming `path` if it is a point cloud or not a usable mesh.
 pipeline::SurfaceMesh load_surface_any_unit(const std::string& path, double expected_size_mm,

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   cli.option("-u", "--unit", &unit_name, "unit of the input: auto, mm, cm, m, in");
   cli.option("-o", "--out", &out, "aligned surface (.ply, .off, .obj or .stl; mm)", pipeline::required);
   cli.option("-t", "--transform", &transform_path, "4x4 transform (JSON)", pipeline::required);
-  cli.option("-s", "--samples", &samples, "surface samples for the symmetry search", 500, 100000);
+  cli.option("-s", "--samples", &samples, "surface samples for the symmetry search (its refinement uses at most 4999 of them)", 500, 100000);
   return pipeline::run_main(cli, argc, argv, [&] {
     pipeline::require_distinct_files({{"--in", in}, {"--out", out}, {"--transform", transform_path}});
     // 1. Options (run_main has logged them)

@@ -86,11 +86,12 @@ struct SymmetricCompletionReport {
 /// Reshapes the given hole fills of `mesh` after the mirrored scanned surface (method above).
 ///
 /// @param[in,out] mesh   closed or open triangle mesh [mm] whose holes were filled
-/// @param[in]     fills  #H lists of the faces each fill added (fill_holes' `patches`)
+/// @param[in]     fills  #H lists of the faces each fill added (fill_holes' `fills`)
 /// @param[in]     opt    SymmetricCompletionOptions
 /// @return what was done per hole; nothing is changed (and `skipped` says why) when the mesh is
 ///         not symmetric enough or no fill was given
-/// @note only fill vertices move; the connectivity is unchanged. Never throws on a surface
+/// @note only fill vertices and the band of scanned vertices around each fill move (Method,
+///       step 3); the connectivity is unchanged. Never throws on a surface
 ///       without a symmetry plane: it is then skipped.
 SymmetricCompletionReport complete_fills_by_symmetry(pipeline::SurfaceMesh& mesh,
                                                      const std::vector<std::vector<pipeline::FaceIndex>>& fills,

@@ -36,7 +36,7 @@ HoleInfo fill_hole(pipeline::SurfaceMesh& mesh, pipeline::SurfaceMesh::Halfedge_
 
 /// Fills the holes of `mesh` in place.
 ///
-/// @param[in,out] mesh  triangle mesh [mm]; new faces have edge lengths like their borders
+/// @param[in,out] mesh  triangle mesh [mm]; new faces are finer than their borders (fill_edge_mm)
 /// @param[in]     kind  decides which loop stays open (see above)
 /// @param[out]    fills optional: the faces each filled loop got, one list per filled loop
 /// @param[in]     fill_edge_mm  the scale of the edges inside a fill [mm] (CGAL's refinement

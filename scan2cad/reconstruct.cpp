@@ -835,7 +835,7 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
       st.unprojected_vertices = ps.unsupported;
       st.projection_mean_mm = ps.mean_move_mm;
       st.projection_max_mm = ps.max_move_mm;
-      char line[160];
+      char line[224];
       std::snprintf(line, sizeof line, "  %zu vertices moved (mean %.3f mm, max %.3f mm), %zu without support left",
                     ps.moved, ps.mean_move_mm, ps.max_move_mm, ps.unsupported);
       pipeline::log("reconstruct", line);
@@ -844,8 +844,10 @@ SurfaceMesh reconstruct(const pipeline::PointCloud& cloud, ScanKind kind, const 
         const internal::UntangleStats us = internal::untangle_crossings(
             mesh, sign, onto, onto_tree, k_onto, st.spacing_mm, opt.projection_max_move_mm, opt.untangle_rounds);
         std::snprintf(line, sizeof line,
-                      "  %d rounds: %zu faces cut, %zu gaps filled, %zu patch vertices projected, %zu crossing faces left",
-                      us.rounds, us.faces_cut, us.gaps_filled, us.vertices_projected, us.crossing_left);
+                      "  %d rounds: %zu faces cut (%zu more in pieces they severed), %zu gaps filled, %zu patch "
+                      "vertices projected, %zu crossing faces left",
+                      us.rounds, us.faces_cut, us.piece_faces_removed, us.gaps_filled, us.vertices_projected,
+                      us.crossing_left);
         pipeline::log("reconstruct", line);
       }
     }

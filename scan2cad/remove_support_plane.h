@@ -66,7 +66,8 @@ struct SupportPlane {
   double removal_band_mm = 0;
   double contact_band_mm = 0;
   double footprint_margin_mm = 0;
-  /// where the object stands on the plane (plane.to_2d): a convex polygon, counterclockwise;
+  /// where the object stands on the plane (in-plane coordinates in mm, orthonormal): a convex
+  /// polygon, counterclockwise;
   /// empty when the object does not reach down to the plane
   std::vector<pipeline::Kernel::Point_2> footprint;
   /// p belongs to the support: beyond the plane, within the contact band, or within the removal

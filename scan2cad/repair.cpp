@@ -19,6 +19,7 @@
 #include "pipeline/principal_spreads.h"
 #include "pipeline/progress.h"
 #include "pipeline/require_affordable_edge.h"
+#include "pipeline/soup_to_mesh.h"
 #include "pipeline/units.h"
 #include "scan2cad/internal/cleanup.h"
 #include "scan2cad/remove_support_plane.h"
@@ -84,8 +85,8 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
 
   // 1. Soup → mesh, degenerate faces.
   progress.step("polygon soup to manifold mesh");
-  internal::SoupStats ss;
-  SurfaceMesh mesh = internal::soup_to_mesh(input, &ss);
+  pipeline::SoupStats ss;
+  SurfaceMesh mesh = pipeline::soup_to_mesh(input, &ss);
   r.soup_polygons_removed = ss.polygons_removed;
   r.non_manifold_vertices_split = ss.non_manifold_vertices_split;
   const std::size_t f0 = mesh.number_of_faces();
@@ -101,7 +102,23 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
     throw pipeline::bad_input("mesh", why);
   // Checked before any work, on the input's area (the hole fills add little).
   pipeline::require_affordable_edge("--edge", opt.target_edge_mm, mesh, max_remeshed_triangles);
-  // and not so coarse that the object loses its shape: --edge 20 left NIOSH medium 1,126 faces,
+
+  // 2. Small components. A large second piece is no scanner debris: a 4 mm gap across the NIOSH
+  //    head cut off its face (36 % of the faces), and repair kept the back of the head and closed
+  //    it with exit 0; of two heads one was kept.
+  //    The same holds for a piece that cutting out self-intersections severs (steps 4 and 7).
+  const auto count_pieces_removed = [&r](const internal::ComponentsKept& kept, const std::string& how) {
+    if (kept.second_area_share > max_second_component_share)
+      throw pipeline::bad_input("mesh", "the surface is in " + std::to_string(kept.components) + " pieces" + how +
+                                            ", and the second largest holds " +
+                                            std::to_string(int(std::lround(100 * kept.second_area_share))) +
+                                            " % of the area: a scan cut in two, or two objects? repair keeps one piece");
+    r.components_removed += kept.components > 0 ? kept.components - 1 : 0;
+    r.component_faces_removed += kept.faces_removed;
+  };
+  count_pieces_removed(internal::keep_largest_component(mesh), "");
+  // The edge not so coarse that the object loses its shape (measured without the debris, which
+  // made the object look larger): --edge 20 left NIOSH medium 1,126 faces,
   // and align and landmarks ran on it (a gonion 40 mm off), exit 0
   if (const double extent_mm = pipeline::largest_extent(mesh.points());
       opt.target_edge_mm > extent_mm / min_edges_across)
@@ -109,18 +126,6 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
                           "--edge " + pipeline::format_number(opt.target_edge_mm) + " mm is coarser than 1/" +
                               pipeline::format_number(min_edges_across) + " of the object's " +
                               pipeline::format_number(extent_mm) + " mm: the remeshed surface would lose its shape");
-
-  // 2. Small components. A large second piece is no scanner debris: a 4 mm gap across the NIOSH
-  //    head cut off its face (36 % of the faces), and repair kept the back of the head and closed
-  //    it with exit 0; of two heads one was kept.
-  const internal::ComponentsKept kept = internal::keep_largest_component(mesh);
-  if (kept.second_area_share > max_second_component_share)
-    throw pipeline::bad_input("mesh", "the surface is in " + std::to_string(kept.components) +
-                                          " pieces, and the second largest holds " +
-                                          std::to_string(int(std::lround(100 * kept.second_area_share))) +
-                                          " % of the area: a scan cut in two, or two objects? repair keeps one piece");
-  r.components_removed = kept.components > 0 ? kept.components - 1 : 0;
-  r.component_faces_removed = kept.faces_removed;
   if (const double extent_mm = pipeline::largest_extent(mesh.points());
       opt.max_extent_mm > 0 && extent_mm > opt.max_extent_mm)
     throw pipeline::bad_input("mesh", "it spans " + pipeline::format_number(extent_mm) + " mm, over the " +
@@ -133,8 +138,10 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
 
   // 4. Self-intersections.
   progress.step("self-intersections");
-  r.self_intersecting_faces_before = internal::count_self_intersecting_faces(mesh);
-  r.self_intersecting_faces_removed = internal::remove_self_intersecting_faces(mesh);
+  const internal::SelfIntersectionsCut cut = internal::remove_self_intersecting_faces(mesh);
+  r.self_intersecting_faces_before = cut.crossing;
+  r.self_intersecting_faces_removed = cut.faces_cut;
+  count_pieces_removed(cut.pieces, " once its self-intersecting faces are cut out");
 
   // 5. Holes.
   progress.step("hole filling");
@@ -158,15 +165,34 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   const double area_before_relaxation_mm2 = PMP::area(mesh);
   if (opt.smoothing_iterations > 0) {
     progress.step("smoothing");
-    // smooth_shape keeps border vertices fixed, so the respirator rim does not shrink
-    PMP::smooth_shape(mesh, opt.smoothing_time, CGAL::parameters::number_of_iterations(opt.smoothing_iterations));
-    r.smoothing_iterations = opt.smoothing_iterations;
-    // Mean-curvature flow shrinks a closed surface toward a point: --smooth 100 --smooth-time 1
-    // left 18 triangles of 3e-13 mm with exit 0. The defaults change the area by well under 1 %.
+    // CGAL holds no vertex unless given a map ("a default property map where no vertex is
+    // constrained"): the respirator's rim moved 3.6 mm at --smooth 30 --smooth-time 0.05 (sweep S).
+    auto held = mesh.add_property_map<pipeline::VertexIndex, bool>("v:repair_held", false).first;
+    auto before = mesh.add_property_map<pipeline::VertexIndex, pipeline::Point>("v:repair_before").first;
+    for (auto v : mesh.vertices()) held[v] = mesh.is_border(v), before[v] = mesh.point(v);
+    PMP::smooth_shape(mesh, opt.smoothing_time,
+                      CGAL::parameters::number_of_iterations(opt.smoothing_iterations).vertex_is_constrained_map(held));
+    for (auto v : mesh.vertices())
+      r.smoothing_max_move_mm = std::max(r.smoothing_max_move_mm, std::sqrt(CGAL::squared_distance(before[v], mesh.point(v))));
+    mesh.remove_property_map(held);
+    mesh.remove_property_map(before);
+    // CGAL gives up without a word when its linear solve fails: then nothing moved.
+    r.smoothing_iterations = r.smoothing_max_move_mm > 0 ? opt.smoothing_iterations : 0;
+    // An open shell with its rim held shrinks toward the disc the rim bounds (--smooth 100
+    // --smooth-time 1 left a cap 18 triangles of 3e-13 mm, exit 0); a closed one is scaled back
+    // to its volume after each step, so it keeps ~90 % of its area while it rounds into a ball
+    // (NIOSH medium at 100 x 1: exit 0, then turned 180 deg by align and a face 158 mm long, sweep S).
+    // Relaxing a scan's noise (0.2-0.3 mm) moves vertices by tenths of a mm: the defaults by
+    // under 0.01 mm.
     if (const double kept = PMP::area(mesh) / area_before_relaxation_mm2; !(kept > 0.7))
       throw pipeline::algorithm_failed("mesh", "smoothing shrank the surface to " +
                                                    pipeline::format_number(std::round(100 * kept)) +
                                                    " % of its area: --smooth or --smooth-time too strong?");
+    if (!(r.smoothing_max_move_mm <= max_smoothing_move_mm))
+      throw pipeline::algorithm_failed("mesh", "smoothing moved a vertex " +
+                                                   pipeline::format_number(r.smoothing_max_move_mm) + " mm, over " +
+                                                   pipeline::format_number(max_smoothing_move_mm) +
+                                                   " mm: it reshapes the object; --smooth or --smooth-time too strong?");
   }
   if (opt.target_edge_mm > 0) {
     progress.step("isotropic remeshing to " + pipeline::format_number(opt.target_edge_mm) + " mm");
@@ -180,7 +206,9 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   std::size_t crossing = internal::count_self_intersecting_faces(mesh);
   for (int round = 0; round < 3 && crossing > 0; ++round) {
     progress.step("removing self-intersections created by remeshing, round " + std::to_string(round + 1));
-    r.self_intersecting_faces_removed += internal::remove_self_intersecting_faces(mesh);
+    const internal::SelfIntersectionsCut remeshing_cut = internal::remove_self_intersecting_faces(mesh);
+    r.self_intersecting_faces_removed += remeshing_cut.faces_cut;
+    count_pieces_removed(remeshing_cut.pieces, " once the self-intersecting faces of its remeshing are cut out");
     for (const auto& h : fill_holes(mesh, kind))
       if (!h.kept_open) r.holes.push_back(h);
     crossing = internal::count_self_intersecting_faces(mesh);
@@ -209,6 +237,13 @@ SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const Repai
   if (kind == ScanKind::head && !r.closed)
     throw pipeline::algorithm_failed("mesh", std::to_string(r.boundary_loops_after) +
                                                  " boundary loops remain, expected a closed head surface");
+  // A hole CGAL could not fill stays open (fill_holes.h); beside the rim it reached surface_mesh
+  // as a hole too small to mesh.
+  if (kind == ScanKind::respirator && r.boundary_loops_after > 1)
+    throw pipeline::algorithm_failed("mesh", std::to_string(r.boundary_loops_after - 1) +
+                                                 " holes remain open beside the rim, expected only the rim");
+  if (!r.manifold)
+    throw pipeline::algorithm_failed("mesh", std::to_string(nm.size()) + " non-manifold vertices remain");
   if (r.self_intersecting_after)
     throw pipeline::algorithm_failed("mesh", "self-intersections remain after 3 rounds of repair");
   return mesh;
@@ -236,6 +271,7 @@ nlohmann::json RepairReport::to_json() const {
           {"holes", holes_j},
           {"symmetric_completion", symmetric_completion_run ? symmetry.to_json() : nlohmann::json()},
           {"smoothing_iterations", smoothing_iterations},
+          {"smoothing_max_move_mm", smoothing_max_move_mm},
           {"target_edge_mm", target_edge_mm},
           {"mean_edge_mm", mean_edge_mm},
           {"output", {{"vertices", output_vertices}, {"faces", output_faces}}},

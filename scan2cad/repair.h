@@ -12,14 +12,18 @@
 ///     objects), not debris;
 ///  3. spikes: a vertex farther from the plane of its one-ring than `spike_factor` × the mean
 ///     radius is moved onto the one-ring centroid (no library does this; see cleanup.cpp);
-///  4. self-intersecting faces are deleted (their holes are filled in step 5);
+///  4. self-intersecting faces are deleted with the faces around their vertices (their holes are
+///     filled in step 5); a piece the cut severs is removed and counted as in step 2, and refused
+///     as in step 2 when it holds more than max_second_component_share of the area;
 ///  5. holes are filled with triangulate_refine_and_fair_hole (see fill_holes.h for which
 ///     boundary loops stay open: none on a head, the largest — the rim — on a respirator);
 ///     on a head the fills are then reshaped after the mirrored scanned surface where the head
 ///     is symmetric (complete_by_symmetry.h);
 ///  6. the surface is relaxed: `smoothing_iterations` steps of mean-curvature flow
-///     (PMP::smooth_shape) and then isotropic remeshing to `target_edge_mm` (tangential
-///     relaxation included); a respirator's rim is split to the target length and kept in place;
+///     (PMP::smooth_shape, border vertices held; a flow that moves a vertex more than
+///     max_smoothing_move_mm, or leaves under 70 % of the area, is an error) and then isotropic
+///     remeshing to `target_edge_mm` (tangential relaxation included); a respirator's rim is
+///     split to the target length and kept in place;
 ///  7. any self-intersection the remeshing created is cut out and filled again (≤ 3 rounds).
 #include <cstddef>
 #include <string>
@@ -45,6 +49,10 @@ constexpr double min_edges_across = 25;
 /// The largest area share a removed component may have: scanner debris is well under 1 %; a
 /// head cut in two by a 4 mm gap across the face had 36 % in its second piece, two heads 50 %.
 constexpr double max_second_component_share = 0.1;
+
+/// The farthest the smoothing of step 6 may move a vertex [mm]: relaxing a scan's noise moves
+/// vertices by tenths of a mm, a flow that moves one farther reshapes the object.
+constexpr double max_smoothing_move_mm = 2.0;
 
 struct RepairOptions {
   /// target edge length of the isotropic remeshing [mm]; default 1.5, 0 = no remeshing; an edge
@@ -89,7 +97,8 @@ struct RepairReport {
   std::vector<HoleInfo> holes;                ///< every boundary loop met, filled or kept open
   bool symmetric_completion_run = false;      ///< step 5's completion was tried (heads only)
   SymmetricCompletionReport symmetry;         ///< its result, one entry per filled hole of step 5
-  int smoothing_iterations = 0;
+  int smoothing_iterations = 0;      ///< steps done (0 when CGAL's solve failed and nothing moved)
+  double smoothing_max_move_mm = 0;  ///< the farthest a vertex moved in them
   double target_edge_mm = 0, mean_edge_mm = 0;
   std::size_t output_vertices = 0, output_faces = 0;
   std::size_t boundary_loops_after = 0;
@@ -114,8 +123,10 @@ struct RepairReport {
 /// @param[in]  opt     RepairOptions
 /// @param[out] report  what was changed (optional)
 /// @return a manifold triangle mesh [mm], outward-oriented when closed
-/// @throws pipeline::Error(bad_input) when the soup has no usable faces;
-///         Error(algorithm) when a head cannot be closed or self-intersections remain.
+/// @throws pipeline::Error(bad_input) when the soup has no usable faces or is in two large pieces;
+///         Error(algorithm) when a head cannot be closed, a respirator keeps a hole beside its
+///         rim, the smoothing reshapes the object, or self-intersections or non-manifold
+///         vertices remain.
 pipeline::SurfaceMesh repair(const pipeline::PolygonSoup& soup, ScanKind kind, const RepairOptions& opt,
                              RepairReport* report = nullptr);
 

@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   cli.option("-n", "--remesh-iterations", &opt.remesh_iterations, "isotropic remeshing iterations", 1, 20);
   cli.option("-s", "--smooth", &opt.smoothing_iterations, "mean-curvature-flow smoothing steps", 0, 100);
   cli.option("-t", "--smooth-time", &opt.smoothing_time, "smoothing time step (CGAL smooth_shape)", 1e-9, 1.0);
-  cli.option("-p", "--spike-factor", &opt.spike_factor, "spike: offset from one-ring plane > p x edge", 0.1, 100.0);
+  cli.option("-p", "--spike-factor", &opt.spike_factor, "spike: offset from one-ring plane > p x the ring's mean radius", 0.1, 100.0);
   bool no_symmetry = false;
   cli.flag("-S", "--no-symmetric-completion", &no_symmetry,
            "heads: keep the faired hole fills (default: reshape them after the mirrored other side)");

@@ -41,7 +41,9 @@ struct Measured {
 Measured distances_from_to(const SurfaceMesh& from, const SurfaceMesh& to, std::size_t n) {
   Measured m;
   PMP::sample_triangle_mesh(from, std::back_inserter(m.samples),
-                            CGAL::parameters::number_of_points_on_faces(n).random_seed(12345).do_sample_edges(false));
+                            CGAL::parameters::number_of_points_on_faces(n).random_seed(12345).do_sample_edges(false)
+                                .do_sample_vertices(false));
+  // every vertex once: CGAL samples them too by default, and with this loop they were counted twice
   for (auto v : from.vertices()) m.samples.push_back(from.point(v));
   CGAL::hilbert_sort(m.samples.begin(), m.samples.end());
   Tree tree(faces(to).first, faces(to).second, to);

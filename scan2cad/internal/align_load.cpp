@@ -1,12 +1,11 @@
-// scan2cad::load_surface_any_unit (declared in align.h): any scan file → polygon mesh in mm.
-// Kept apart from align.cpp so the heavy CGAL soup-repair headers compile in one small file.
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+// scan2cad::load_surface_any_unit (declared in align.h): any scan file → triangle mesh in mm.
 #include <CGAL/Polygon_mesh_processing/orientation.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+
+#include <utility>
 
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/soup_to_mesh.h"
 #include "scan2cad/align.h"
 
 namespace scan2cad {
@@ -21,10 +20,7 @@ pipeline::SurfaceMesh load_surface_any_unit(const std::string& path, double expe
   if (!scan.is_mesh)
     throw pipeline::bad_input(path, "is a point cloud, expected a surface mesh (run reconstruct and repair first)");
   if (unit_read) *unit_read = scan.unit;
-  PMP::repair_polygon_soup(scan.soup.points, scan.soup.polygons);
-  PMP::orient_polygon_soup(scan.soup.points, scan.soup.polygons);
-  pipeline::SurfaceMesh mesh;
-  PMP::polygon_soup_to_polygon_mesh(scan.soup.points, scan.soup.polygons, mesh);
+  pipeline::SurfaceMesh mesh = pipeline::naming_file(path, [&] { return pipeline::soup_to_mesh(std::move(scan.soup)); });
   if (mesh.number_of_faces() == 0)
     throw pipeline::bad_input(path, "no usable faces after soup repair");
   // Outward normals when the surface is closed (landmarks read "facing down" from them).

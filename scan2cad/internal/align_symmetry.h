@@ -50,7 +50,8 @@ std::vector<double> capped_distances(const pipeline::SurfaceMesh& mesh, const st
 /// Candidates: the 3 principal axes and 150 directions over a hemisphere, each through the area
 /// centroid, scored by the truncated mean distance of reflected samples to the surface; the best
 /// 3 distinct candidates are refined by reflect-and-match point-to-plane ICP on ~500 samples,
-/// and the most symmetric of them is refined again on up to ~4000 samples.
+/// and the most symmetric of them is refined again on every k-th sample, k = ⌊samples / 2500⌋
+/// (all the default 4000; 2500-4999 of any larger number).
 /// @throws pipeline::Error(algorithm) if no candidate converges to a plane with inliers.
 SymmetryResult find_symmetry_plane(const pipeline::SurfaceMesh& mesh, std::size_t samples = 4000);
 

@@ -1,14 +1,10 @@
-// Helpers of repair: soup → mesh, spikes, self-intersections (CGAL PMP where it has the tool).
+// Helpers of repair: spikes, self-intersections, components (CGAL PMP where it has the tool).
 #include "scan2cad/internal/cleanup.h"
 
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,21 +18,6 @@ using pipeline::SurfaceMesh;
 using pipeline::Vector;
 
 namespace scan2cad::internal {
-
-SurfaceMesh soup_to_mesh(pipeline::PolygonSoup soup, SoupStats* stats) {
-  const std::size_t polys0 = soup.polygons.size();
-  PMP::repair_polygon_soup(soup.points, soup.polygons);
-  const std::size_t points0 = soup.points.size();
-  PMP::orient_polygon_soup(soup.points, soup.polygons);  // duplicates points at non-manifold vertices
-  SurfaceMesh mesh;
-  PMP::polygon_soup_to_polygon_mesh(soup.points, soup.polygons, mesh);
-  PMP::triangulate_faces(mesh);
-  if (stats) {
-    stats->polygons_removed = polys0 - soup.polygons.size();
-    stats->non_manifold_vertices_split = soup.points.size() - points0;
-  }
-  return mesh;
-}
 
 // CGAL has no spike filter: a spike is a vertex that sticks out of the plane of its one-ring by
 // more than `factor` × the ring's mean radius e (distance of the ring to its centroid, which the
@@ -90,9 +71,11 @@ std::set<pipeline::FaceIndex> self_intersecting_faces(const SurfaceMesh& mesh) {
 
 std::size_t count_self_intersecting_faces(const SurfaceMesh& mesh) { return self_intersecting_faces(mesh).size(); }
 
-std::size_t remove_self_intersecting_faces(SurfaceMesh& mesh) {
+SelfIntersectionsCut remove_self_intersecting_faces(SurfaceMesh& mesh) {
+  SelfIntersectionsCut result;
   const auto faces = self_intersecting_faces(mesh);
-  if (faces.empty()) return 0;
+  result.crossing = faces.size();
+  if (faces.empty()) return result;
   // also the faces around them: a one-face gap between two crossing sheets would reappear
   std::set<pipeline::FaceIndex> cut = faces;
   for (auto f : faces)
@@ -102,8 +85,9 @@ std::size_t remove_self_intersecting_faces(SurfaceMesh& mesh) {
   for (auto f : cut) CGAL::Euler::remove_face(mesh.halfedge(f), mesh);
   mesh.collect_garbage();
   PMP::duplicate_non_manifold_vertices(mesh);
-  keep_largest_component(mesh);
-  return cut.size();
+  result.faces_cut = cut.size();
+  result.pieces = keep_largest_component(mesh);
+  return result;
 }
 
 ComponentsKept keep_largest_component(SurfaceMesh& mesh) {

@@ -1,18 +1,11 @@
 #pragma once
-/// Helpers of repair (internal): soup → mesh, spikes, self-intersections.
+/// Helpers of repair (internal): spikes, self-intersections, components (soup → mesh is
+/// pipeline/soup_to_mesh.h).
 #include <cstddef>
 
 #include "pipeline/surface_mesh.h"
 
 namespace scan2cad::internal {
-
-struct SoupStats {
-  std::size_t polygons_removed = 0, non_manifold_vertices_split = 0;
-};
-
-/// repair_polygon_soup + orient_polygon_soup + polygon_soup_to_polygon_mesh (CGAL); polygons
-/// with more than 3 sides are triangulated. The soup is taken by value (CGAL edits it).
-pipeline::SurfaceMesh soup_to_mesh(pipeline::PolygonSoup soup, SoupStats* stats);
 
 /// Moves spike vertices onto their one-ring centroid; @return the number of moves.
 /// A spike: distance from the vertex to the plane through the one-ring centroid with the
@@ -22,16 +15,25 @@ std::size_t remove_spikes(pipeline::SurfaceMesh& mesh, double factor, int passes
 /// Faces that intersect another face (PMP::self_intersections).
 std::size_t count_self_intersecting_faces(const pipeline::SurfaceMesh& mesh);
 
-/// Deletes every self-intersecting face, splits the non-manifold vertices this leaves and
-/// keeps the largest component. @return the number of faces deleted.
-std::size_t remove_self_intersecting_faces(pipeline::SurfaceMesh& mesh);
-
 /// What keep_largest_component found and removed.
 struct ComponentsKept {
   std::size_t components = 0;     ///< connected components found (0 for an empty mesh)
   std::size_t faces_removed = 0;  ///< faces of the components removed
   double second_area_share = 0;   ///< the second largest component's area / the whole area, in [0, 0.5]
 };
+
+/// What remove_self_intersecting_faces found and deleted.
+struct SelfIntersectionsCut {
+  std::size_t crossing = 0;   ///< faces that intersected another face
+  std::size_t faces_cut = 0;  ///< those and the faces around their vertices, deleted
+  ComponentsKept pieces;      ///< the pieces the cut left; all but the largest were removed
+};
+
+/// Deletes every self-intersecting face and the faces around its vertices, splits the
+/// non-manifold vertices this leaves and keeps the largest component. The cut can sever a thin
+/// part (an ear's fin whose two sides crossed): `pieces` says what went with it, which the
+/// caller must count and may refuse (a piece cut off is not a crossing face).
+SelfIntersectionsCut remove_self_intersecting_faces(pipeline::SurfaceMesh& mesh);
 
 /// Keeps the connected component of largest area, and measures the second largest's share of the
 /// whole area (which tells a scan cut in two, or two objects, from debris). Area, not the face

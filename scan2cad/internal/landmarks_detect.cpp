@@ -78,6 +78,7 @@ std::vector<Sample> cast_ray_grid(const SurfaceMesh& m, double outward, const Ve
   Eigen::Matrix3d grid;
   grid << step * u, step * v, dir;
   const Eigen::Matrix3d to_grid = grid.inverse();
+  if (nu <= 0 || nv <= 0) return {};  // an empty window (hi < lo): no rays, not a wrapped size
   struct Nearest {
     double t = inf;
     bool is_point = false;
@@ -91,10 +92,12 @@ std::vector<Sample> cast_ray_grid(const SurfaceMesh& m, double outward, const Ve
     const Vector3d ga = to_grid * (E(pa) - origin), gb = to_grid * (E(pb) - origin), gc = to_grid * (E(pc) - origin);
     // The footprint's bounding cells, widened by a margin for rounding (CGAL's test decides).
     constexpr double margin = 1e-6;
-    const int i0 = std::max(0, int(std::ceil(std::min({ga.x(), gb.x(), gc.x()}) - margin)));
-    const int i1 = std::min(nu - 1, int(std::floor(std::max({ga.x(), gb.x(), gc.x()}) + margin)));
-    const int j0 = std::max(0, int(std::ceil(std::min({ga.y(), gb.y(), gc.y()}) - margin)));
-    const int j1 = std::min(nv - 1, int(std::floor(std::max({ga.y(), gb.y(), gc.y()}) + margin)));
+    // clamped as doubles: a vertex far off the grid overflowed int (undefined behaviour)
+    const auto cell = [](double g, int hi) { return int(std::clamp(g, -1.0, double(hi) + 1.0)); };
+    const int i0 = std::max(0, cell(std::ceil(std::min({ga.x(), gb.x(), gc.x()}) - margin), nu));
+    const int i1 = std::min(nu - 1, cell(std::floor(std::max({ga.x(), gb.x(), gc.x()}) + margin), nu));
+    const int j0 = std::max(0, cell(std::ceil(std::min({ga.y(), gb.y(), gc.y()}) - margin), nv));
+    const int j1 = std::min(nv - 1, cell(std::floor(std::max({ga.y(), gb.y(), gc.y()}) + margin), nv));
     if (i0 > i1 || j0 > j1) continue;
     // Vertex order and argument order as the AABB tree's face primitive and traits use them, so
     // that the constructed hit points are the same to the last bit.
@@ -331,8 +334,14 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
   const Vector2d prn = prof.refine(ip, 3.0 * k);
   const std::size_t i_gl = prof.extreme(prn.x() + 30.0 * k, prn.x() + 90.0 * k, +1);  // glabella (forehead)
   if (i_gl == prof.z.size()) throw pipeline::algorithm_failed("head", "no forehead above the nose tip");
-  const double around = std::max(prof.z[prof.extreme(prn.x() + 40 * k, prn.x() + 45 * k, +1) % prof.z.size()],
-                                 prof.z[prof.extreme(prn.x() - 45 * k, prn.x() - 40 * k, +1) % prof.z.size()]);
+  // The nose's prominence over the profile 40-45 mm above and below it; with no profile there
+  // (a window past the section's ends) none is measured, and the confidence is 0.
+  const auto highest_in = [&](double lo, double hi) {
+    const std::size_t i = prof.extreme(lo, hi, +1);
+    return i == prof.z.size() ? -inf : prof.z[i];
+  };
+  double around = std::max(highest_in(prn.x() + 40 * k, prn.x() + 45 * k), highest_in(prn.x() - 45 * k, prn.x() - 40 * k));
+  if (!std::isfinite(around)) around = prn.y();
   L.points["pronasale"] = at({0.0, prn.x(), prn.y()}, (prn.y() - around) / (15.0 * k));
 
   // 2. Sellion: deepest point of the profile between the nose tip and the glabella.
@@ -340,11 +349,11 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
   const Vector2d sel = prof.refine(is, 8.0 * k);
   L.points["sellion"] = at({0.0, sel.x(), sel.y()}, (prof.z[i_gl] - sel.y()) / (3.0 * k));
 
-  // 4. Menton (find_menton).
+  // 3. Menton (find_menton).
   const Vector2d men = find_menton(segs, prn, k);
   L.points["menton"] = at({0.0, men.x(), men.y()}, 0.8);
 
-  // 5. Each side (s = +1 left, −1 right), on ray-grid samples of the surface (0.5k mm grid).
+  // 4. Each side (s = +1 left, −1 right), on ray-grid samples of the surface (0.5k mm grid).
   // Windows are soft (ramps 4k mm wide unless said).
   const auto above = [k](double value, double edge, double ramp_mm = 4.0) { return soft_above(value, edge, ramp_mm * k); };
   const auto below = [k](double value, double edge, double ramp_mm = 4.0) { return soft_below(value, edge, ramp_mm * k); };
@@ -396,9 +405,10 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
     // less than 10 mm); tragion is at the front end of its upper arm, where the helix meets the
     // face: the front-most point (soft-max z) of the ear above its mean height.
     Vector3d tr, ear_low;
-    soft_argmax(lateral, [&](const Sample& q) { return ear(q) * above(q.p.y(), ym, 8.0); },
-                [&](const Sample& q) { return q.p.z(); }, 1.5 * k, tr);
-    soft_argmax(lateral, ear, [&](const Sample& q) { return -q.p.y(); }, 1.0 * k, ear_low);  // lobe bottom
+    if (!soft_argmax(lateral, [&](const Sample& q) { return ear(q) * above(q.p.y(), ym, 8.0); },
+                     [&](const Sample& q) { return q.p.z(); }, 1.5 * k, tr) ||
+        !soft_argmax(lateral, ear, [&](const Sample& q) { return -q.p.y(); }, 1.0 * k, ear_low))  // lobe bottom
+      throw pipeline::algorithm_failed("head", "no tragion on side " + side.substr(1));
     // Zygion: most lateral point of the face in front of the ear, at cheekbone height
     // (0–40 mm below the sellion), behind the eyes (≥ 40 mm behind the nose tip).
     Vector3d zy;
@@ -436,7 +446,7 @@ Landmarks detect_landmarks(const SurfaceMesh& head) {
     L.points["gonion" + side] = at(go, jaw_mm2 >= 100.0 * k * k ? 0.6 : 0.3);
   }
 
-  // 6. Lateral points onto the surface; confidence drops with left/right mismatch.
+  // 5. Lateral points onto the surface; confidence drops with left/right mismatch.
   for (auto& [name, p] : L.points) {
     p.position = E(tree.closest_point(pipeline::Point(p.position.x(), p.position.y(), p.position.z())));
     if (name.find("_left") != std::string::npos) {

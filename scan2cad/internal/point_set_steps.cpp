@@ -157,7 +157,7 @@ double spike_move_limit_mm(std::vector<double> moves_mm) {
   if (moves_mm.empty()) return std::numeric_limits<double>::infinity();
   const auto middle = moves_mm.begin() + long(moves_mm.size() / 2);
   std::nth_element(moves_mm.begin(), middle, moves_mm.end());
-  return 4.0 * 1.4826 * *middle;
+  return std::max(4.0 * 1.4826 * *middle, min_spike_move_mm);
 }
 
 }  // namespace scan2cad::internal

@@ -67,9 +67,16 @@ double share_of_normals_along_surface(const std::vector<PointWithNormal>& pn, un
 double share_of_points_on_a_surface(const std::vector<PointWithNormal>& pn, unsigned k, std::size_t samples,
                                     double min_quality);
 
+/// The least spike_move_limit_mm gives [mm]: a structured-light scanner's accuracy (0.05-0.1 mm).
+/// Points sampled from a CAD model or a mesh move 0 onto their jets wherever the surface is a
+/// quadric, and without a floor the limit was 0: a noise-free drum lost all of its curved side as
+/// "spikes" and reconstruct refused the rest as a scan in pieces (sweep S).
+constexpr double min_spike_move_mm = 0.1;
+
 /// Not a CGAL step: the move [mm] above which a jet projection calls its point a spike, 4 robust
-/// standard deviations (1.4826 × the median) of `moves_mm`, the points' moves onto their jets.
-/// Infinite when there are no moves. Shared by reconstruct's smoothing and the own-side refit.
+/// standard deviations (1.4826 × the median) of `moves_mm`, the points' moves onto their jets,
+/// and at least min_spike_move_mm. Infinite when there are no moves. Shared by reconstruct's
+/// smoothing and the own-side refit.
 double spike_move_limit_mm(std::vector<double> moves_mm);
 
 }  // namespace scan2cad::internal

@@ -109,9 +109,10 @@ UntangleStats untangle_crossings(SurfaceMesh& mesh, double sign, const std::vect
       break;
     }
     for (auto v : mesh.vertices()) was_border[v] = mesh.is_border(v);
-    const std::size_t cut = remove_self_intersecting_faces(mesh);
-    if (cut == 0) break;
-    us.faces_cut += cut;
+    const SelfIntersectionsCut cut = remove_self_intersecting_faces(mesh);
+    if (cut.faces_cut == 0) break;
+    us.faces_cut += cut.faces_cut;
+    us.piece_faces_removed += cut.pieces.faces_removed;
     std::vector<SurfaceMesh::Halfedge_index> loops;
     PMP::extract_boundary_cycles(mesh, std::back_inserter(loops));
     std::vector<pipeline::VertexIndex> fresh;

@@ -80,6 +80,7 @@ ProjectionStats project_onto_points(pipeline::SurfaceMesh& mesh, const std::vect
 struct UntangleStats {
   int rounds = 0;                    ///< rounds that cut something
   std::size_t faces_cut = 0;         ///< crossing faces and their one-rings, over all rounds
+  std::size_t piece_faces_removed = 0;  ///< faces of pieces the cuts severed (removed with them)
   std::size_t gaps_filled = 0;       ///< gaps filled with a faired patch
   std::size_t vertices_projected = 0;  ///< patch vertices moved onto the points
   std::size_t crossing_left = 0;     ///< faces still crossing another at the end (repair cuts them)

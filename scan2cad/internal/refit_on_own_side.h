@@ -27,7 +27,7 @@ namespace scan2cad::internal {
 struct RefitStats {
   std::size_t one_sided = 0;   ///< points left as they were: no other side among their k nearest
   std::size_t refitted = 0;    ///< points moved onto their own side's jet
-  std::size_t too_few = 0;     ///< points left as they were: fewer than k/2 agreeing neighbours
+  std::size_t too_few = 0;     ///< points left as they were: fewer than max(6, k/2) agreeing neighbours
   std::size_t spikes = 0;      ///< points dropped: the jet moved them by more than 4 robust sigma
 };
 

@@ -17,6 +17,7 @@
 #include "pipeline/cli.h"
 #include "pipeline/error.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/soup_to_mesh.h"
 #include "pipeline/write_mesh.h"
 #include "../bad_input_message.h"
 #include "../file_text.h"
@@ -459,6 +460,28 @@ TEST(read_surface_mesh, tells_a_non_manifold_ply_from_a_truncated_one) {
                          "element vertex 3\nproperty double x\nproperty double y\nproperty double z\nend_header\n"
                          "3 0 1 2\n0 0 0\n100 0 0\n0 100 0\n");
   EXPECT_EQ(message_of(faces_first), faces_first + ": its faces come before its vertices: a mesh a stage wrote lists vertices first");
+}
+
+// A scanner's or MeshLab's quads: soup_to_mesh (align's loader, repair) cuts them into triangles;
+// a later stage's mesh must be triangles already. The stages' AABB trees, samplers and ray grids
+// read three corners of a face: of a 10 mm square they saw half, points 4.95 mm inside it missed
+// (sweep S).
+TEST(soup_to_mesh, cuts_quads_into_triangles_and_read_surface_mesh_refuses_them) {
+  pipeline::PolygonSoup cube;
+  for (int i = 0; i < 8; ++i) cube.points.emplace_back(10.0 * (i & 1), 10.0 * ((i >> 1) & 1), 10.0 * ((i >> 2) & 1));
+  cube.polygons = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  pipeline::SoupStats stats;
+  const pipeline::SurfaceMesh mesh = pipeline::soup_to_mesh(cube, &stats);
+  EXPECT_EQ(mesh.number_of_faces(), 12u);
+  for (auto f : mesh.faces()) EXPECT_EQ(mesh.degree(f), 3u);
+  EXPECT_TRUE(CGAL::is_closed(mesh));
+  EXPECT_EQ(stats.polygons_removed, 0u);
+  std::string off = "OFF\n8 6 0\n";
+  for (const auto& p : cube.points) off += std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
+  for (const auto& q : cube.polygons) off += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+  const std::string quads = scratch_file("quads.off", off);
+  EXPECT_EQ(bad_input_message([&] { pipeline::read_surface_mesh(quads); }),
+            quads + ": face 0 has 4 corners, expected triangles (a stage's output; run repair first)");
 }
 
 // A vertex no face uses (a scanner's marker far off) decided the unit: a 200 mm head with one at

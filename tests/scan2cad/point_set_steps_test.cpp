@@ -146,3 +146,17 @@ TEST(point_set_steps, share_of_points_on_a_surface_tells_a_scan_from_a_volume) {
   EXPECT_GE(on_noisy_sphere, 0.8);
   EXPECT_LE(in_box, 0.3);
 }
+
+// The spike limit is 4 robust standard deviations of the jet moves, and never under 0.1 mm:
+// points sampled from a CAD model move 0 onto their jets wherever the surface is a quadric, and
+// with a limit of 0 a noise-free drum lost all of its curved side as spikes (sweep S).
+TEST(point_set_steps, the_spike_limit_has_a_floor_for_noise_free_points) {
+  std::vector<double> exact(1000, 0.0);
+  for (std::size_t i = 0; i < 300; ++i) exact[i] = 1e-12;  // the curved side, fitted exactly
+  exact[0] = 3.0;                                          // one real spike
+  EXPECT_EQ(scan2cad::internal::spike_move_limit_mm(exact), scan2cad::internal::min_spike_move_mm);
+  std::vector<double> noisy;
+  for (int i = 1; i <= 999; ++i) noisy.push_back(0.2 * i / 500.0);  // median 0.2 mm
+  EXPECT_NEAR(scan2cad::internal::spike_move_limit_mm(noisy), 4 * 1.4826 * 0.2, 1e-12);
+  EXPECT_TRUE(std::isinf(scan2cad::internal::spike_move_limit_mm({})));
+}
