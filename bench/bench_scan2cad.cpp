@@ -8,12 +8,11 @@
 #include <cstdio>
 
 #include "data/generator/scanner_artifacts.h"
-#include "pipeline/soup_to_mesh.h"
 #include "pipeline/atomic_write.h"
 #include "pipeline/cli.h"
 #include "pipeline/read_scan.h"
+#include "pipeline/soup_to_mesh.h"
 #include "pipeline/write_mesh.h"
-#include "scan2cad/internal/cleanup.h"
 #include "scan2cad/reconstruct.h"
 #include "scan2cad/repair.h"
 #include "scan2cad/surface_distance.h"
